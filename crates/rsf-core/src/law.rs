@@ -1,0 +1,240 @@
+//! The [`StateLaw`] plugin trait.
+
+use num_dual::{DualNum, DualSVec64};
+use std::fmt::Debug;
+
+/// The scalar type a law is written in: `f64` for plain evaluation, or a forward-mode dual
+/// number from `num-dual` for exact derivatives.
+///
+/// Why `num_dual::DualNum` rather than `num_traits::Float` or `nalgebra::RealField`:
+/// `Float` is not implemented by dual numbers, so a law written against it could not be
+/// differentiated automatically. `RealField` is implemented by duals but offers no arithmetic
+/// with plain `f64`, so every constant would need `R::from_f64(2.0).unwrap()`. `DualNum`
+/// admits both `f64` and the duals, and allows `x * 2.0`, `x / dc`, `1.0 - …` written as
+/// `-(…) + 1.0`, so a law reads like its equation. Instantiated at `f64` it compiles to plain
+/// floating-point code: the explicit integrators pay nothing for the generality.
+pub trait Real: DualNum<Primitive = f64> + Copy {}
+impl<T: DualNum<Primitive = f64> + Copy> Real for T {}
+
+/// What a state-evolution law may depend on. All quantities in rsf units.
+#[derive(Clone, Copy, Debug)]
+pub struct StateArgs<R> {
+    /// Slip rate V, µm/s (always > 0).
+    pub v: R,
+    /// This state variable θ, s (always > 0).
+    pub theta: R,
+    /// This state variable's characteristic slip distance Dc, µm.
+    pub dc: R,
+    /// This state variable's b (dimensionless); Nagata's law divides its stress-rate term by it.
+    pub b: R,
+    /// Shear-stress rate dτ/dt = k (V_lp − V), friction units per s.
+    pub stress_rate: R,
+}
+
+impl StateArgs<f64> {
+    /// Arguments with zero stress rate (steady or imposed-velocity sliding).
+    pub fn new(v: f64, theta: f64, dc: f64, b: f64) -> Self {
+        Self { v, theta, dc, b, stress_rate: 0.0 }
+    }
+}
+
+/// The value of dθ/dt and its exact partial derivatives at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jet {
+    /// dθ/dt (dimensionless: s per s).
+    pub rate: f64,
+    /// ∂(dθ/dt)/∂V, s/µm.
+    pub d_v: f64,
+    /// ∂(dθ/dt)/∂θ, 1/s.
+    pub d_theta: f64,
+    /// ∂(dθ/dt)/∂(dτ/dt), s (per friction unit).
+    pub d_stress_rate: f64,
+}
+
+/// A state-variable evolution law `dθ/dt = G(V, θ, Dc, b, dτ/dt)`.
+///
+/// One method is required: [`theta_rate`](StateLaw::theta_rate), written once, generic over
+/// the scalar `R`. Everything else has a default: exact partial derivatives for implicit
+/// solvers come from evaluating the same method with dual numbers, and the steady state is
+/// found by Newton iteration on `G = 0`. Override a default only for speed or where the law's
+/// own definition differs (Perrin–Rice–Zheng's θ scale of 2, Kato–Tullis's own steady state).
+///
+/// A law is a plain value with its own parameters (e.g. a cut-off velocity); it keeps no
+/// solution state, so solving twice with the same law gives the same answer.
+///
+/// ```
+/// use rsf_core::{StateLaw, StateArgs, Real};
+///
+/// /// Ruina's Slip law, dθ/dt = −(Vθ/Dc) ln(Vθ/Dc).
+/// #[derive(Debug, Clone)]
+/// struct MySlip;
+/// impl StateLaw for MySlip {
+///     fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+///         let omega = s.v * s.theta / s.dc;
+///         -(omega * omega.ln())
+///     }
+/// }
+/// // Default steady state: θ = Dc/V.
+/// assert!((MySlip.steady_state_theta(2.0, 10.0).unwrap() - 5.0).abs() < 1e-12);
+/// // Exact derivative by dual numbers: ∂G/∂θ at Ω = 1 is −V/Dc.
+/// let jet = MySlip.jet(&StateArgs::new(2.0, 5.0, 10.0, 0.01));
+/// assert!((jet.d_theta + 0.2).abs() < 1e-15);
+/// ```
+pub trait StateLaw: Debug + Send + Sync + 'static {
+    /// dθ/dt in s/s. `s.v > 0` and `s.theta > 0` are guaranteed by the solvers.
+    fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R;
+
+    /// A short name for messages and output (e.g. `"slip"`).
+    fn name(&self) -> String {
+        let full = std::any::type_name::<Self>();
+        full.rsplit("::").next().unwrap_or(full).to_lowercase()
+    }
+
+    /// The law's own parameters (name, value), e.g. `[("vc", 1e-3)]`.
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
+    /// Check the law's own parameters; return a message naming the bad one.
+    fn validate(&self) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// The factor `s` in the friction term `b ln(V0 θ / (s Dc))`. 1 unless the law defines
+    /// θ differently (Perrin–Rice–Zheng: 2, so that its steady state θ = 2Dc/V gives the
+    /// standard steady-state friction).
+    fn theta_scale(&self) -> f64 {
+        1.0
+    }
+
+    /// Exact value and partial derivatives of dθ/dt (forward-mode dual numbers over
+    /// [`theta_rate`](StateLaw::theta_rate)).
+    fn jet(&self, s: &StateArgs<f64>) -> Jet {
+        type D3 = DualSVec64<3>;
+        let args = StateArgs {
+            v: D3::from_re(s.v).derivative(0),
+            theta: D3::from_re(s.theta).derivative(1),
+            dc: D3::from_re(s.dc),
+            b: D3::from_re(s.b),
+            stress_rate: D3::from_re(s.stress_rate).derivative(2),
+        };
+        let g = self.theta_rate(&args);
+        let d = g.eps.unwrap_generic(nalgebra::Const::<3>, nalgebra::U1);
+        Jet { rate: g.re, d_v: d[0], d_theta: d[1], d_stress_rate: d[2] }
+    }
+
+    /// Steady-state θ at slip rate `v` (µm/s) for this `dc` (µm): the root of
+    /// `G(V, θ) = 0` at zero stress rate. Default: safeguarded Newton in ln θ from `Dc/V`.
+    fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
+        steady_state_by_newton(|theta| self.jet(&StateArgs::new(v, theta, dc, 1.0)), v, dc)
+    }
+}
+
+/// Newton iteration in z = ln θ on G(θ) = 0, bracketing the root so that it cannot wander.
+fn steady_state_by_newton(
+    jet: impl Fn(f64) -> Jet,
+    v: f64,
+    dc: f64,
+) -> Result<f64, String> {
+    let fail = |why: &str| Err(format!("no steady state found at V = {v:e} µm/s, Dc = {dc} µm: {why}"));
+    if !(v > 0.0 && v.is_finite() && dc > 0.0 && dc.is_finite()) {
+        return fail("V and Dc must be positive and finite");
+    }
+    let mut z = (dc / v).ln();
+    // Bracket: expand until G changes sign (G > 0 below the root for healing laws).
+    let g0 = jet(z.exp()).rate;
+    if g0 == 0.0 {
+        return Ok(z.exp());
+    }
+    let (mut lo, mut hi) = (z, z);
+    let mut step = 0.5;
+    let mut found = false;
+    for _ in 0..200 {
+        lo -= step;
+        hi += step;
+        step *= 1.6;
+        if jet(lo.exp()).rate.signum() != g0.signum() {
+            hi = z;
+            found = true;
+            // keep lo
+            break;
+        }
+        if jet(hi.exp()).rate.signum() != g0.signum() {
+            lo = z;
+            found = true;
+            break;
+        }
+    }
+    if !found {
+        return fail("dθ/dt does not change sign");
+    }
+    let g_lo = jet(lo.exp()).rate;
+    z = 0.5 * (lo + hi);
+    for _ in 0..200 {
+        let theta = z.exp();
+        let j = jet(theta);
+        if j.rate == 0.0 {
+            return Ok(theta);
+        }
+        if j.rate.signum() == g_lo.signum() {
+            lo = z;
+        } else {
+            hi = z;
+        }
+        let dz = -j.rate / (j.d_theta * theta);
+        let mut zn = z + dz;
+        if !(zn > lo.min(hi) && zn < lo.max(hi)) || !zn.is_finite() {
+            zn = 0.5 * (lo + hi);
+        }
+        if (zn - z).abs() <= 1e-15 * (1.0 + z.abs()) || (hi - lo).abs() < 1e-15 {
+            return Ok(zn.exp());
+        }
+        z = zn;
+    }
+    Ok(z.exp())
+}
+
+/// Object-safe face of [`StateLaw`], implemented for every law automatically. Solvers hold
+/// laws as `Arc<dyn DynStateLaw>` so that each state variable may use a different law; law
+/// authors never implement or name this trait.
+pub trait DynStateLaw: Debug + Send + Sync {
+    /// dθ/dt at f64 (see [`StateLaw::theta_rate`]).
+    fn rate(&self, s: &StateArgs<f64>) -> f64;
+    /// See [`StateLaw::jet`].
+    fn jet(&self, s: &StateArgs<f64>) -> Jet;
+    /// See [`StateLaw::steady_state_theta`].
+    fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String>;
+    /// See [`StateLaw::theta_scale`].
+    fn theta_scale(&self) -> f64;
+    /// See [`StateLaw::name`].
+    fn name(&self) -> String;
+    /// See [`StateLaw::parameters`].
+    fn parameters(&self) -> Vec<(&'static str, f64)>;
+    /// See [`StateLaw::validate`].
+    fn validate(&self) -> Result<(), String>;
+}
+
+impl<L: StateLaw> DynStateLaw for L {
+    #[inline]
+    fn rate(&self, s: &StateArgs<f64>) -> f64 {
+        self.theta_rate(s)
+    }
+    fn jet(&self, s: &StateArgs<f64>) -> Jet {
+        StateLaw::jet(self, s)
+    }
+    fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
+        StateLaw::steady_state_theta(self, v, dc)
+    }
+    fn theta_scale(&self) -> f64 {
+        StateLaw::theta_scale(self)
+    }
+    fn name(&self) -> String {
+        StateLaw::name(self)
+    }
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        StateLaw::parameters(self)
+    }
+    fn validate(&self) -> Result<(), String> {
+        StateLaw::validate(self)
+    }
+}

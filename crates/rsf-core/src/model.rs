@@ -1,0 +1,188 @@
+//! Friction parameters, state variables and the machine.
+
+use crate::friction::FrictionForm;
+use crate::law::{DynStateLaw, StateLaw};
+use std::sync::Arc;
+use thiserror::Error;
+
+/// One state variable: its evolution law, its `b` and its `Dc` (µm).
+#[derive(Clone, Debug)]
+pub struct StateVariable {
+    /// The evolution law (any [`StateLaw`], possibly from the user's own crate).
+    pub law: Arc<dyn DynStateLaw>,
+    /// Magnitude of the evolution effect (dimensionless).
+    pub b: f64,
+    /// Characteristic slip distance, µm.
+    pub dc: f64,
+}
+
+impl StateVariable {
+    /// A state variable evolving by `law`.
+    pub fn new<L: StateLaw>(law: L, b: f64, dc: f64) -> Self {
+        Self { law: Arc::new(law), b, dc }
+    }
+    /// A state variable from an already shared law.
+    pub fn from_shared(law: Arc<dyn DynStateLaw>, b: f64, dc: f64) -> Self {
+        Self { law, b, dc }
+    }
+}
+
+/// An invalid model parameter, named.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ModelError {
+    /// A parameter has a value that makes the model meaningless.
+    #[error("invalid parameter `{name}` = {value}: {why}")]
+    Parameter {
+        /// Parameter name as in the protocol file, e.g. `state[2].dc`.
+        name: String,
+        /// The value given.
+        value: f64,
+        /// What is required.
+        why: &'static str,
+    },
+    /// A state law rejected its own parameters or has no steady state.
+    #[error("state {index} ({law}): {why}")]
+    Law {
+        /// 1-based state index.
+        index: usize,
+        /// The law's name.
+        law: String,
+        /// The law's message.
+        why: String,
+    },
+    /// No state variable was given.
+    #[error("the model needs at least one state variable")]
+    NoState,
+}
+
+/// A rate-and-state friction model coupled to a spring (the testing machine).
+///
+/// Units: `v0` µm/s, `stiffness` 1/µm (friction per µm of load-point displacement; use
+/// `f64::INFINITY` to impose the slip rate V = V_lp exactly), `eta` friction per µm/s.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Steady-state friction at `v0`.
+    pub mu0: f64,
+    /// Reference slip rate V0, µm/s.
+    pub v0: f64,
+    /// Direct-effect coefficient a.
+    pub a: f64,
+    /// Machine stiffness k divided by normal stress, 1/µm. `INFINITY` imposes V = V_lp.
+    pub stiffness: f64,
+    /// Radiation damping η, friction per µm/s (0: quasi-static).
+    pub eta: f64,
+    /// Classic or regularized friction.
+    pub form: FrictionForm,
+    /// The state variables (N ≥ 1); laws may differ between them.
+    pub states: Vec<StateVariable>,
+}
+
+impl Model {
+    /// A model with no state variables yet (add them with [`with_state`](Self::with_state)).
+    pub fn new(mu0: f64, v0: f64, a: f64, stiffness: f64) -> Self {
+        Self { mu0, v0, a, stiffness, eta: 0.0, form: FrictionForm::Classic, states: Vec::new() }
+    }
+    /// Adds a state variable.
+    pub fn with_state(mut self, s: StateVariable) -> Self {
+        self.states.push(s);
+        self
+    }
+    /// Sets the radiation damping η (friction per µm/s).
+    pub fn with_eta(mut self, eta: f64) -> Self {
+        self.eta = eta;
+        self
+    }
+    /// Sets the friction form.
+    pub fn with_form(mut self, form: FrictionForm) -> Self {
+        self.form = form;
+        self
+    }
+
+    /// Number of state variables N.
+    pub fn n_states(&self) -> usize {
+        self.states.len()
+    }
+
+    /// Whether the slip rate is imposed (infinite stiffness).
+    pub fn imposed_velocity(&self) -> bool {
+        self.stiffness == f64::INFINITY
+    }
+
+    /// Checks every parameter; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let p = |name: &str, value: f64, why| Err(ModelError::Parameter { name: name.into(), value, why });
+        if !self.mu0.is_finite() {
+            return p("mu0", self.mu0, "must be finite");
+        }
+        if !(self.v0 > 0.0 && self.v0.is_finite()) {
+            return p("v0", self.v0, "must be positive and finite");
+        }
+        if !(self.a > 0.0 && self.a.is_finite()) {
+            return p("a", self.a, "must be positive and finite");
+        }
+        if !(self.stiffness > 0.0) {
+            return p("stiffness", self.stiffness, "must be positive (inf imposes V = V_lp)");
+        }
+        if !(self.eta >= 0.0 && self.eta.is_finite()) {
+            return p("eta", self.eta, "must be zero or positive and finite");
+        }
+        if self.states.is_empty() {
+            return Err(ModelError::NoState);
+        }
+        for (i, s) in self.states.iter().enumerate() {
+            if !s.b.is_finite() {
+                return p(&format!("state[{}].b", i + 1), s.b, "must be finite");
+            }
+            if !(s.dc > 0.0 && s.dc.is_finite()) {
+                return p(&format!("state[{}].dc", i + 1), s.dc, "must be positive and finite (µm)");
+            }
+            s.law.validate().map_err(|why| ModelError::Law { index: i + 1, law: s.law.name(), why })?;
+        }
+        Ok(())
+    }
+
+    /// State contribution Ψ = Σ b_i ln(V0 θ_i / (s_i Dc_i)) from ln θ_i.
+    pub fn psi_from_ln_theta(&self, ln_theta: &[f64]) -> f64 {
+        let lv0 = self.v0.ln();
+        self.states
+            .iter()
+            .zip(ln_theta)
+            .map(|(s, z)| s.b * (lv0 + z - (s.law.theta_scale() * s.dc).ln()))
+            .sum()
+    }
+
+    /// Friction (without radiation damping) at slip rate `v` (µm/s) and states `theta` (s).
+    pub fn friction(&self, v: f64, theta: &[f64]) -> f64 {
+        let z: Vec<f64> = theta.iter().map(|t| t.ln()).collect();
+        self.form.friction(self.mu0, self.a, self.v0, v.ln(), self.psi_from_ln_theta(&z))
+    }
+
+    /// Steady-state θ_i (s) of every state variable at slip rate `v` (µm/s).
+    pub fn steady_state_thetas(&self, v: f64) -> Result<Vec<f64>, ModelError> {
+        self.states
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                s.law
+                    .steady_state_theta(v, s.dc)
+                    .map_err(|why| ModelError::Law { index: i + 1, law: s.law.name(), why })
+            })
+            .collect()
+    }
+
+    /// Steady-state friction at slip rate `v` (µm/s); for laws whose steady state is θ = s Dc/V
+    /// this is `mu0 + (a − Σ b_i) ln(V/V0)`.
+    pub fn steady_state_friction(&self, v: f64) -> Result<f64, ModelError> {
+        let th = self.steady_state_thetas(v)?;
+        Ok(self.friction(v, &th))
+    }
+
+    /// Critical stiffness `k_c = Σ_i b_i/Dc_i − a/…`, here the classic single-state result
+    /// `(b − a)/Dc` generalised to `max(0, (Σ b_i − a)/min Dc)`, an upper bound used only for
+    /// messages; 0 for velocity strengthening.
+    pub fn critical_stiffness_estimate(&self) -> f64 {
+        let b: f64 = self.states.iter().map(|s| s.b).sum();
+        let dc = self.states.iter().map(|s| s.dc).fold(f64::INFINITY, f64::min);
+        ((b - self.a) / dc).max(0.0)
+    }
+}

@@ -1,0 +1,197 @@
+//! What integrators and problems share: the [`OdeSystem`] and [`Integrator`] traits.
+
+use nalgebra::{SMatrix, SVector};
+use serde::Serialize;
+use thiserror::Error;
+
+/// An autonomous ODE system `dy/dt = f(y)` of fixed dimension `D` (time enters only through
+/// the piece boundaries at which the caller restarts the integrator).
+pub trait OdeSystem<const D: usize> {
+    /// `f(y)`.
+    fn rhs(&self, y: &SVector<f64, D>) -> SVector<f64, D>;
+
+    /// `f(y)` and the exact Jacobian `∂f/∂y` (required by implicit methods only).
+    fn rhs_and_jacobian(&self, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>);
+
+    /// The error scale of component `i`: an error equal to the scale is just acceptable.
+    /// Default: `atol + rtol·max(|y0_i|, |y1_i|)` (Hairer & Wanner).
+    fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
+        let _ = i;
+        tol.atol + tol.rtol * y0.abs().max(y1.abs())
+    }
+
+    /// Called after each accepted step; an `Err` stops the integration with that message
+    /// (e.g. a slip rate beyond any physical meaning).
+    fn check(&self, y: &SVector<f64, D>) -> Result<(), String> {
+        let _ = y;
+        Ok(())
+    }
+}
+
+/// Relative and absolute tolerances.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Tolerances {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+}
+
+/// Work counters returned with every solution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct StepStats {
+    /// Accepted steps.
+    pub accepted: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobian_evals: u64,
+    /// LU decompositions.
+    pub lu_decompositions: u64,
+}
+
+impl std::ops::AddAssign for StepStats {
+    fn add_assign(&mut self, o: Self) {
+        self.accepted += o.accepted;
+        self.rejected += o.rejected;
+        self.rhs_evals += o.rhs_evals;
+        self.jacobian_evals += o.jacobian_evals;
+        self.lu_decompositions += o.lu_decompositions;
+    }
+}
+
+/// Why an integration stopped early. Every variant carries the time reached.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum IntegrationError {
+    /// The step size fell below what floating point can resolve at `t`.
+    #[error("step size underflow at t = {t} s (h = {h:e} s)")]
+    StepSizeUnderflow {
+        /// Time, s.
+        t: f64,
+        /// Step size, s.
+        h: f64,
+    },
+    /// The step budget ran out.
+    #[error("more than {steps} steps at t = {t} s without reaching the end; the problem may be stiff (try the implicit method)")]
+    TooManySteps {
+        /// Time, s.
+        t: f64,
+        /// Step budget.
+        steps: u64,
+    },
+    /// The system's [`OdeSystem::check`] stopped the integration.
+    #[error("stopped at t = {t} s: {reason}")]
+    Stopped {
+        /// Time, s.
+        t: f64,
+        /// The system's message.
+        reason: String,
+    },
+    /// The Jacobian matrix `I/(hγ) − J` was singular.
+    #[error("singular iteration matrix at t = {t} s")]
+    Singular {
+        /// Time, s.
+        t: f64,
+    },
+}
+
+/// End state of one call to [`Integrator::integrate`].
+#[derive(Clone, Copy, Debug)]
+pub struct Integrated<const D: usize> {
+    /// State at the end time.
+    pub y: SVector<f64, D>,
+    /// Suggested first step for a following piece, s.
+    pub h_next: f64,
+}
+
+/// A time-stepping method. The same problem runs unchanged under any integrator.
+///
+/// Implementations: [`Dopri5`](crate::Dopri5) (explicit) and [`Rodas4`](crate::Rodas4)
+/// (implicit, exact Jacobian).
+pub trait Integrator {
+    /// Method name for output, e.g. `"dopri5"`.
+    fn name(&self) -> &'static str;
+
+    /// Tolerances in use.
+    fn tolerances(&self) -> Tolerances;
+
+    /// Integrates from `(t0, y0)` to `t1` (`t1 > t0`), landing on `t1` exactly. For every time
+    /// in `t_out` (sorted, within `(t0, t1]`) calls `out(t, y(t))` from the method's dense
+    /// output, never by shortening steps. `h0 > 0` proposes a first step (e.g. the last step
+    /// of the previous piece); `h0 <= 0` lets the method choose.
+    #[allow(clippy::too_many_arguments)]
+    fn integrate<const D: usize, S: OdeSystem<D>>(
+        &self,
+        sys: &S,
+        t0: f64,
+        y0: SVector<f64, D>,
+        t1: f64,
+        h0: f64,
+        t_out: &[f64],
+        out: &mut impl FnMut(f64, &SVector<f64, D>),
+        stats: &mut StepStats,
+    ) -> Result<Integrated<D>, IntegrationError>;
+}
+
+/// RMS error norm of `err` against the component scales (Hairer & Wanner II, IV.4).
+#[inline]
+pub(crate) fn error_norm<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    err: &SVector<f64, D>,
+    y0: &SVector<f64, D>,
+    y1: &SVector<f64, D>,
+    tol: &Tolerances,
+) -> f64 {
+    let mut s = 0.0;
+    for i in 0..D {
+        let e = err[i] / sys.error_scale(i, y0[i], y1[i], tol);
+        s += e * e;
+    }
+    let n = (s / D as f64).sqrt();
+    if n.is_finite() { n } else { f64::INFINITY }
+}
+
+/// Hairer's starting step size heuristic (Solving ODEs I, II.4), one extra RHS evaluation.
+pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    y0: &SVector<f64, D>,
+    f0: &SVector<f64, D>,
+    span: f64,
+    order: i32,
+    tol: &Tolerances,
+    stats: &mut StepStats,
+) -> f64 {
+    let mut dnf = 0.0;
+    let mut dny = 0.0;
+    for i in 0..D {
+        let sk = sys.error_scale(i, y0[i], y0[i], tol);
+        dnf += (f0[i] / sk).powi(2);
+        dny += (y0[i] / sk).powi(2);
+    }
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
+    h = h.min(span);
+    let y1 = y0 + f0 * h;
+    let f1 = sys.rhs(&y1);
+    stats.rhs_evals += 1;
+    let mut der2 = 0.0;
+    for i in 0..D {
+        let sk = sys.error_scale(i, y0[i], y0[i], tol);
+        der2 += ((f1[i] - f0[i]) / sk).powi(2);
+    }
+    let der2 = der2.sqrt() / h;
+    let der12 = der2.max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der12).powf(1.0 / (order as f64 + 1.0))
+    };
+    (100.0 * h).min(h1).min(span)
+}
+
+/// Smallest step allowed at time `t`.
+#[inline]
+pub(crate) fn h_min(t: f64) -> f64 {
+    16.0 * f64::EPSILON * t.abs().max(1e-3)
+}

@@ -1,0 +1,402 @@
+//! Problem → algorithm → solution for the spring-slider.
+
+use crate::ode::{Integrator, IntegrationError, OdeSystem, StepStats, Tolerances};
+use nalgebra::{SMatrix, SVector};
+use rsf_core::{Loading, Model, ModelError, Piece, SpringSlider};
+use serde::Serialize;
+use thiserror::Error;
+
+/// Largest number of state variables the solver is compiled for.
+pub const MAX_STATES: usize = 8;
+
+/// Where output samples are taken.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OutputTimes {
+    /// `t = 0, dt, 2dt, …` and the end of the last segment (s).
+    Every(f64),
+    /// At every piece boundary (the record's own sample times for a measured record).
+    PieceEnds,
+    /// At these times (s, sorted, within the loading's time span).
+    Times(Vec<f64>),
+}
+
+/// A forward problem: model, loading, initial steady state and output times. It holds no
+/// solution state, so solving it twice gives the same answer.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// The friction model and machine.
+    pub model: Model,
+    /// How the load point moves.
+    pub loading: Loading,
+    /// The system starts in steady state at this slip rate, µm/s.
+    pub v_init: f64,
+    /// Output sampling.
+    pub output: OutputTimes,
+    /// Slip rate (µm/s) beyond which the run stops with a blow-up error. Default 1e9 µm/s
+    /// (1 km/s: no quasi-static lab model means anything there).
+    pub max_slip_rate: f64,
+}
+
+impl Problem {
+    /// A problem sampled every `dt` seconds.
+    pub fn new(model: Model, loading: Loading, v_init: f64, dt: f64) -> Self {
+        Self { model, loading, v_init, output: OutputTimes::Every(dt), max_slip_rate: 1e9 }
+    }
+}
+
+/// Why a forward solve failed. Messages name the parameter, or the time and values reached.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SolveError {
+    /// A model parameter is invalid.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The loading history is invalid.
+    #[error("loading: {0}")]
+    Loading(String),
+    /// Another input is invalid.
+    #[error("{0}")]
+    Input(String),
+    /// The slip rate diverged: a quasi-static instability.
+    #[error(
+        "slip rate blew up at t = {t:.6} s (V = {v:.3e} µm/s, mu = {mu:.6}): the quasi-static system is unstable \
+         (stiffness {k} < critical stiffness ≈ {kc:.3e} 1/µm); add radiation damping (eta) to follow the slip event"
+    )]
+    BlowUp {
+        /// Time, s.
+        t: f64,
+        /// Slip rate at stop, µm/s.
+        v: f64,
+        /// Friction at stop.
+        mu: f64,
+        /// Stiffness, 1/µm.
+        k: f64,
+        /// Critical stiffness estimate, 1/µm.
+        kc: f64,
+    },
+    /// The integrator failed.
+    #[error("integration failed in piece {piece} (V_lp = {v_lp} µm/s, V = {v:.3e} µm/s): {source}")]
+    Integration {
+        /// 1-based piece (segment or record interval) index.
+        piece: usize,
+        /// Load-point velocity, µm/s.
+        v_lp: f64,
+        /// Slip rate at the start of the failing piece, µm/s.
+        v: f64,
+        /// The integrator's error.
+        source: IntegrationError,
+    },
+}
+
+/// A solved forward problem: columns at the output times, and the work done.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Solution {
+    /// Time, s.
+    pub time: Vec<f64>,
+    /// Load-point displacement, µm.
+    pub load_point: Vec<f64>,
+    /// Friction τ (shear stress over normal stress carried by the spring; = f(V, θ) + ηV).
+    pub mu: Vec<f64>,
+    /// Slip rate V, µm/s.
+    pub slip_rate: Vec<f64>,
+    /// Slip δ, µm (0 at the start).
+    pub slip: Vec<f64>,
+    /// θ_i, s: `theta[i][row]`.
+    pub theta: Vec<Vec<f64>>,
+    /// Integrator work.
+    pub stats: StepStats,
+    /// Integrator name.
+    pub method: String,
+    /// Tolerances used.
+    pub tolerances: Option<Tolerances>,
+}
+
+impl Solution {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+
+    /// Writes the CSV `time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s…]`
+    /// with shortest round-trip number formatting.
+    pub fn write_csv<W: std::io::Write>(&self, w: W) -> std::io::Result<()> {
+        use std::io::Write;
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, w);
+        write!(w, "time_s,load_point_um,mu,slip_rate_um_s,slip_um")?;
+        for i in 0..self.theta.len() {
+            write!(w, ",theta_{}_s", i + 1)?;
+        }
+        writeln!(w)?;
+        let mut line = String::with_capacity(256);
+        for r in 0..self.len() {
+            use std::fmt::Write as _;
+            line.clear();
+            let _ = write!(line, "{},{},{},{},{}", self.time[r], self.load_point[r], self.mu[r], self.slip_rate[r], self.slip[r]);
+            for th in &self.theta {
+                let _ = write!(line, ",{}", th[r]);
+            }
+            line.push('\n');
+            w.write_all(line.as_bytes())?;
+        }
+        w.flush()
+    }
+}
+
+/// The spring-slider as an [`OdeSystem`] of dimension `D = N + 2`.
+struct SliderOde<'a, const D: usize> {
+    sys: SpringSlider<'a>,
+    ln_v_max: f64,
+}
+
+impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
+    #[inline]
+    fn rhs(&self, y: &SVector<f64, D>) -> SVector<f64, D> {
+        let mut dy = SVector::<f64, D>::zeros();
+        self.sys.rhs(y.as_slice(), dy.as_mut_slice());
+        dy
+    }
+    fn rhs_and_jacobian(&self, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
+        let mut dy = SVector::<f64, D>::zeros();
+        let mut j = SMatrix::<f64, D, D>::zeros();
+        self.sys.jacobian(y.as_slice(), dy.as_mut_slice(), j.as_mut_slice());
+        (dy, j)
+    }
+    /// ln V and ln θ are controlled absolutely (an error ε is a relative error ε in V or θ)
+    /// to `atol + rtol`; slip relatively to `atol + rtol |δ|`.
+    #[inline]
+    fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
+        if i + 1 < D { tol.rtol + tol.atol } else { tol.atol + tol.rtol * y0.abs().max(y1.abs()) }
+    }
+    #[inline]
+    fn check(&self, y: &SVector<f64, D>) -> Result<(), String> {
+        if y[0] > self.ln_v_max {
+            Err(format!("slip rate {:.3e} µm/s exceeds the limit", y[0].exp()))
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// Solves `problem` with the integrator `alg`.
+///
+/// ```
+/// use rsf_core::{Loading, Model, Segment, StateVariable};
+/// use rsf_laws::Slip;
+/// use rsf_solvers::{solve, Dopri5, Problem, Rodas4};
+///
+/// let model = Model::new(0.6, 1.0, 0.013, 0.065).with_state(StateVariable::new(Slip, 0.016, 2.07));
+/// let loading = Loading::Segments(vec![Segment::for_duration(1.0, 5.0), Segment::for_duration(0.0, 100.0)]);
+/// let problem = Problem::new(model, loading, 1.0, 0.5);
+/// let explicit = solve(&problem, &Dopri5::new(1e-9, 1e-12)).unwrap();
+/// let implicit = solve(&problem, &Rodas4::new(1e-9, 1e-12)).unwrap();
+/// let end = explicit.len() - 1;
+/// assert!((explicit.mu[end] - implicit.mu[end]).abs() < 1e-8);
+/// assert!(explicit.slip_rate[end] < 1e-2); // the hold relaxes V by orders of magnitude
+/// ```
+pub fn solve<I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
+    let n = problem.model.n_states();
+    macro_rules! dispatch {
+        ($($n:literal => $d:literal),*) => {
+            match n {
+                $($n => solve_dim::<$d, I>(problem, alg),)*
+                0 => Err(SolveError::Model(ModelError::NoState)),
+                _ => Err(SolveError::Input(format!(
+                    "{n} state variables: this build supports at most {MAX_STATES}"
+                ))),
+            }
+        };
+    }
+    dispatch!(1 => 3, 2 => 4, 3 => 5, 4 => 6, 5 => 7, 6 => 8, 7 => 9, 8 => 10)
+}
+
+fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveError> {
+    let t0 = pieces[0].t0;
+    let t_end = pieces[pieces.len() - 1].t1;
+    match &problem.output {
+        OutputTimes::Every(dt) => {
+            if !(*dt > 0.0 && dt.is_finite()) {
+                return Err(SolveError::Input(format!("output dt = {dt} must be positive and finite")));
+            }
+            let span = t_end - t0;
+            let count = (span / dt * (1.0 + 1e-12)).floor() as usize;
+            if count > 50_000_000 {
+                return Err(SolveError::Input(format!(
+                    "output dt = {dt} s gives {count} rows over {span} s; choose a larger dt"
+                )));
+            }
+            let mut ts: Vec<f64> = (0..=count).map(|i| t0 + i as f64 * dt).collect();
+            let last = *ts.last().unwrap();
+            if (t_end - last).abs() <= 1e-9 * dt {
+                *ts.last_mut().unwrap() = t_end;
+            } else if last < t_end {
+                ts.push(t_end);
+            } else {
+                ts.pop();
+                ts.push(t_end);
+            }
+            Ok(ts)
+        }
+        OutputTimes::PieceEnds => {
+            let mut ts = vec![t0];
+            ts.extend(pieces.iter().map(|p| p.t1));
+            Ok(ts)
+        }
+        OutputTimes::Times(ts) => {
+            for (i, w) in ts.windows(2).enumerate() {
+                if !(w[1] > w[0]) {
+                    return Err(SolveError::Input(format!("output time {} ({} s) does not increase", i + 1, w[1])));
+                }
+            }
+            if let (Some(&a), Some(&b)) = (ts.first(), ts.last()) {
+                if a < t0 || b > t_end {
+                    return Err(SolveError::Input(format!(
+                        "output times [{a}, {b}] s lie outside the loading [{t0}, {t_end}] s"
+                    )));
+                }
+            }
+            Ok(ts.clone())
+        }
+    }
+}
+
+fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
+    let model = &problem.model;
+    model.validate()?;
+    let tol = alg.tolerances();
+    if !(tol.rtol > 0.0 && tol.rtol < 1.0 && tol.atol >= 0.0 && tol.rtol.is_finite() && tol.atol.is_finite()) {
+        return Err(SolveError::Input(format!(
+            "tolerances rtol = {}, atol = {} must satisfy 0 < rtol < 1 and atol >= 0",
+            tol.rtol, tol.atol
+        )));
+    }
+    if !(problem.v_init > 0.0 && problem.v_init.is_finite()) {
+        return Err(SolveError::Input(format!("v_init = {} must be positive and finite (µm/s)", problem.v_init)));
+    }
+    let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
+    let t_out = output_times(problem, &pieces)?;
+    if model.imposed_velocity() {
+        if let Some((i, p)) = pieces.iter().enumerate().find(|(_, p)| !(p.v > 0.0)) {
+            return Err(SolveError::Loading(format!(
+                "piece {}: with infinite stiffness the slip rate equals V_lp, which must be positive (got {})",
+                i + 1,
+                p.v
+            )));
+        }
+        let y = SpringSlider::steady_state(model, problem.v_init)?;
+        for (i, s) in model.states.iter().enumerate() {
+            let j = s.law.jet(&rsf_core::StateArgs::new(problem.v_init, y[1 + i].exp(), s.dc, s.b));
+            if j.d_stress_rate != 0.0 {
+                return Err(SolveError::Input(format!(
+                    "state {} ({}) depends on the stress rate, which is undefined with infinite stiffness",
+                    i + 1,
+                    s.law.name()
+                )));
+            }
+        }
+    }
+    if !(problem.max_slip_rate > problem.v_init) {
+        return Err(SolveError::Input(format!(
+            "max_slip_rate = {} must exceed v_init = {}",
+            problem.max_slip_rate, problem.v_init
+        )));
+    }
+
+    let n = D - 2;
+    let rows = t_out.len();
+    let mut sol = Solution {
+        time: Vec::with_capacity(rows),
+        load_point: Vec::with_capacity(rows),
+        mu: Vec::with_capacity(rows),
+        slip_rate: Vec::with_capacity(rows),
+        slip: Vec::with_capacity(rows),
+        theta: vec![Vec::with_capacity(rows); n],
+        stats: StepStats::default(),
+        method: alg.name().to_string(),
+        tolerances: Some(tol),
+    };
+    let y_init = SpringSlider::steady_state(model, problem.v_init)?;
+    let mut y = SVector::<f64, D>::from_column_slice(&y_init);
+    let ln_v_max = problem.max_slip_rate.ln();
+
+    let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
+        sol.time.push(t);
+        sol.load_point.push(piece.load_point(t));
+        sol.mu.push(sys.stress(y.as_slice()));
+        sol.slip_rate.push(y[0].exp());
+        sol.slip.push(y[D - 1]);
+        for i in 0..n {
+            sol.theta[i].push(y[1 + i].exp());
+        }
+    };
+
+    let mut oi = 0; // next output index
+    let mut h = 0.0;
+    for (pi, piece) in pieces.iter().enumerate() {
+        let sys = SpringSlider::new(model, piece.v);
+        if model.imposed_velocity() {
+            y[0] = piece.v.ln();
+        }
+        // outputs at the piece start (t = t0 of the first piece, or sample times that fall on
+        // a boundary are emitted by the piece that ends there)
+        while oi < t_out.len() && t_out[oi] <= piece.t0 {
+            record(&mut sol, &sys, piece, t_out[oi], &y);
+            oi += 1;
+        }
+        let start = oi;
+        while oi < t_out.len() && t_out[oi] <= piece.t1 {
+            oi += 1;
+        }
+        let ode = SliderOde::<D> { sys, ln_v_max };
+        let v_start = y[0].exp();
+        let mut rows: Vec<(f64, SVector<f64, D>)> = Vec::new();
+        let res = alg.integrate(
+            &ode,
+            piece.t0,
+            y,
+            piece.t1,
+            h,
+            &t_out[start..oi],
+            &mut |t, yy| rows.push((t, *yy)),
+            &mut sol.stats,
+        );
+        for (t, yy) in &rows {
+            record(&mut sol, &sys, piece, *t, yy);
+        }
+        match res {
+            Ok(r) => {
+                y = r.y;
+                h = r.h_next;
+            }
+            Err(e) => {
+                let t_fail = match &e {
+                    IntegrationError::StepSizeUnderflow { t, .. }
+                    | IntegrationError::TooManySteps { t, .. }
+                    | IntegrationError::Stopped { t, .. }
+                    | IntegrationError::Singular { t } => *t,
+                };
+                let blew_up = matches!(e, IntegrationError::Stopped { .. })
+                    || (matches!(e, IntegrationError::StepSizeUnderflow { .. })
+                        && rows.last().map(|(_, yy)| yy[0] > y[0] + 2.0).unwrap_or(true));
+                if blew_up && !model.imposed_velocity() {
+                    let yy = rows.last().map(|r| r.1).unwrap_or(y);
+                    return Err(SolveError::BlowUp {
+                        t: t_fail,
+                        v: yy[0].exp().max(if matches!(e, IntegrationError::Stopped { .. }) {
+                            problem.max_slip_rate
+                        } else {
+                            0.0
+                        }),
+                        mu: sys.stress(yy.as_slice()),
+                        k: model.stiffness,
+                        kc: model.critical_stiffness_estimate(),
+                    });
+                }
+                return Err(SolveError::Integration { piece: pi + 1, v_lp: piece.v, v: v_start, source: e });
+            }
+        }
+    }
+    Ok(sol)
+}
