@@ -38,3 +38,32 @@ pub fn reference_cases() -> serde_json::Value {
     let p = data_dir().join("reference/rsfmodel/cases.json");
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
+
+use rsf_core::{Loading, Model, Segment, StateVariable};
+use rsf_solvers::{Dopri5, OutputTimes, Problem, Rodas4, Solution};
+
+/// One-state model with a built-in law by name (`vc`/`c` taken from `extra` where needed).
+pub fn model1(law: &str, a: f64, b: f64, dc: f64, k: f64, extra: f64) -> Model {
+    let law = rsf_laws::law_by_name(law, |_| Some(extra)).unwrap();
+    Model::new(0.6, 1.0, a, k).with_state(StateVariable::from_shared(law, b, dc))
+}
+
+/// Solves with both integrators at `rtol`; returns (explicit, implicit).
+pub fn both(p: &Problem, rtol: f64) -> (Solution, Solution) {
+    let e = rsf_solvers::solve(p, &Dopri5::new(rtol, rtol * 1e-3)).unwrap();
+    let i = rsf_solvers::solve(p, &Rodas4::new(rtol, rtol * 1e-3)).unwrap();
+    (e, i)
+}
+
+/// A problem from (v, duration) segments, sampled every `dt`.
+pub fn problem(model: Model, v_init: f64, segs: &[(f64, f64)], dt: f64) -> Problem {
+    let segs = segs.iter().map(|&(v, d)| Segment::for_duration(v, d)).collect();
+    Problem::new(model, Loading::Segments(segs), v_init, dt)
+}
+
+/// Same, with output at the given times.
+pub fn problem_at(model: Model, v_init: f64, segs: &[(f64, f64)], times: Vec<f64>) -> Problem {
+    let mut p = problem(model, v_init, segs, 1.0);
+    p.output = OutputTimes::Times(times);
+    p
+}

@@ -148,3 +148,102 @@ impl<'a> SpringSlider<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FrictionForm, Real, StateArgs, StateLaw, StateVariable};
+
+    #[derive(Debug)]
+    struct Aging;
+    impl StateLaw for Aging {
+        fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+            -(s.v * s.theta / s.dc) + 1.0
+        }
+    }
+    #[derive(Debug)]
+    struct Slip;
+    impl StateLaw for Slip {
+        fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+            let o = s.v * s.theta / s.dc;
+            -(o * o.ln())
+        }
+    }
+    /// Nagata-like: depends on the stress rate.
+    #[derive(Debug)]
+    struct StressRate;
+    impl StateLaw for StressRate {
+        fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+            -(s.v * s.theta / s.dc) + 1.0 - s.theta * s.stress_rate * 2.0 / s.b
+        }
+    }
+
+    fn models() -> Vec<Model> {
+        let base = |k: f64| Model::new(0.6, 1.0, 0.011, k);
+        vec![
+            base(0.05).with_state(StateVariable::new(Slip, 0.015, 3.0)),
+            base(0.05).with_state(StateVariable::new(Aging, 0.015, 3.0)).with_eta(0.3),
+            base(0.002)
+                .with_state(StateVariable::new(Slip, 0.008, 3.0))
+                .with_state(StateVariable::new(Aging, 0.006, 40.0))
+                .with_state(StateVariable::new(StressRate, 0.004, 10.0)),
+            base(0.02).with_state(StateVariable::new(Slip, 0.015, 3.0)).with_form(FrictionForm::Regularized).with_eta(0.01),
+            Model { mu0: 0.05, ..base(0.02).with_state(StateVariable::new(Aging, 0.02, 1.0)) }
+                .with_form(FrictionForm::Regularized),
+            base(f64::INFINITY).with_state(StateVariable::new(Slip, 0.015, 3.0)),
+        ]
+    }
+
+    #[test]
+    fn jacobian_matches_central_differences() {
+        for (mi, m) in models().iter().enumerate() {
+            let d = m.states.len() + 2;
+            for &v_lp in &[0.0, 0.3, 10.0] {
+                let sys = SpringSlider::new(m, v_lp);
+                // a point off steady state
+                let mut y: Vec<f64> = (0..d).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
+                y[0] = -4.0 + mi as f64;
+                let mut f = vec![0.0; d];
+                let mut jac = vec![0.0; d * d];
+                sys.jacobian(&y, &mut f, &mut jac);
+                let mut f2 = vec![0.0; d];
+                sys.rhs(&y, &mut f2);
+                for i in 0..d {
+                    assert!((f[i] - f2[i]).abs() <= 1e-14 * f[i].abs().max(1e-300), "model {mi}: rhs mismatch");
+                }
+                for c in 0..d {
+                    let h = 1e-6;
+                    let (mut yp, mut ym) = (y.clone(), y.clone());
+                    yp[c] += h;
+                    ym[c] -= h;
+                    let (mut fp, mut fm) = (vec![0.0; d], vec![0.0; d]);
+                    sys.rhs(&yp, &mut fp);
+                    sys.rhs(&ym, &mut fm);
+                    for r in 0..d {
+                        let fd = (fp[r] - fm[r]) / (2.0 * h);
+                        let ex = jac[c * d + r];
+                        let scale = fd.abs().max(ex.abs()).max(1e-8);
+                        assert!(
+                            (fd - ex).abs() / scale < 1e-6,
+                            "model {mi} v_lp {v_lp}: J[{r},{c}] exact {ex:e} vs fd {fd:e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn steady_state_has_zero_rates_when_loaded_at_that_velocity() {
+        for m in models().iter().take(5) {
+            let y = SpringSlider::steady_state(m, 2.5).unwrap();
+            let sys = SpringSlider::new(m, 2.5);
+            let mut f = vec![0.0; y.len()];
+            sys.rhs(&y, &mut f);
+            for (i, fi) in f.iter().enumerate().take(y.len() - 1) {
+                assert!(fi.abs() < 1e-13, "component {i}: {fi}");
+            }
+            assert!((f[y.len() - 1] - 2.5).abs() < 1e-13);
+        }
+    }
+}

@@ -1,1 +1,380 @@
-//! Protocol files.
+//! Protocol files (TOML) for `rsf simulate`.
+//!
+//! The parameter rules live in one place — [`Model::validate`], [`Segment::duration`],
+//! [`LoadRecord::validate`] — and this module maps their errors back to the file and line of
+//! the offending field.
+//!
+//! ```
+//! let text = r#"
+//! [model]
+//! mu0 = 0.65
+//! v0 = 1.0
+//! a = 0.013
+//! stiffness = 0.065
+//! [[model.state]]
+//! law = "slip"
+//! b = 0.016
+//! dc = 2.07
+//! [loading]
+//! v_init = 3.0
+//! [[loading.segment]]
+//! v = 0.3
+//! displacement = 10.0
+//! [output]
+//! dt = 1.0
+//! "#;
+//! let p = rsf_solvers::protocol::parse(text, None, "example.toml").unwrap();
+//! let sol = p.method.solve(&p.problem).unwrap();
+//! assert_eq!(sol.time.last(), Some(&(10.0 / 0.3)));
+//! ```
+
+use crate::solve::{OutputTimes, Problem};
+use crate::Method;
+use rsf_core::{FrictionForm, LoadRecord, Loading, Model, ModelError, Segment, StateVariable};
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A parsed protocol: the problem and the chosen method.
+#[derive(Clone, Debug)]
+pub struct Protocol {
+    /// The forward problem.
+    pub problem: Problem,
+    /// The integrator selected in `[solver]`.
+    pub method: Method,
+}
+
+/// A protocol error, naming file, line and field where known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProtocolError {
+    /// File name as given.
+    pub file: String,
+    /// 1-based line, if known.
+    pub line: Option<usize>,
+    /// The field, e.g. `model.state[2].dc`.
+    pub field: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl std::fmt::Display for ProtocolError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        write!(f, ": ")?;
+        if let Some(field) = &self.field {
+            write!(f, "`{field}`: ")?;
+        }
+        write!(f, "{}", self.message)
+    }
+}
+impl std::error::Error for ProtocolError {}
+
+type S<T> = Spanned<T>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    model: S<RawModel>,
+    loading: S<RawLoading>,
+    output: Option<S<RawOutput>>,
+    solver: Option<RawSolver>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawModel {
+    mu0: S<f64>,
+    v0: S<f64>,
+    a: S<f64>,
+    stiffness: S<f64>,
+    eta: Option<S<f64>>,
+    form: Option<S<String>>,
+    state: Option<Vec<S<RawState>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawState {
+    law: S<String>,
+    b: S<f64>,
+    dc: S<f64>,
+    vc: Option<S<f64>>,
+    c: Option<S<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLoading {
+    v_init: S<f64>,
+    segment: Option<Vec<S<RawSegment>>>,
+    record: Option<S<String>>,
+    time_column: Option<String>,
+    load_point_column: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSegment {
+    v: S<f64>,
+    duration: Option<S<f64>>,
+    displacement: Option<S<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOutput {
+    dt: Option<S<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSolver {
+    method: Option<S<String>>,
+    rtol: Option<S<f64>>,
+    atol: Option<S<f64>>,
+    max_slip_rate: Option<S<f64>>,
+}
+
+/// Default solver settings.
+pub const DEFAULT_METHOD: &str = "implicit";
+/// Default relative tolerance.
+pub const DEFAULT_RTOL: f64 = 1e-9;
+/// Default absolute tolerance (µm of slip).
+pub const DEFAULT_ATOL: f64 = 1e-12;
+
+/// Reads and parses a protocol file; a `record` path is relative to the file.
+pub fn load(path: &Path) -> Result<Protocol, ProtocolError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ProtocolError {
+        file: name.clone(),
+        line: None,
+        field: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    parse(&text, path.parent(), &name)
+}
+
+/// Parses protocol text. `base` resolves a relative `record` path; `file` names the source
+/// in messages.
+pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, ProtocolError> {
+    let line_of = |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
+    let err = |span: Option<&Range<usize>>, field: &str, message: String| ProtocolError {
+        file: file.to_string(),
+        line: span.and_then(line_of),
+        field: if field.is_empty() { None } else { Some(field.to_string()) },
+        message,
+    };
+    let raw: RawFile = toml::from_str(text).map_err(|e| {
+        let msg = e.message().to_string();
+        err(e.span().as_ref(), "", msg)
+    })?;
+
+    // ---- model
+    let rm = raw.model.get_ref();
+    let mut spans: HashMap<String, Range<usize>> = HashMap::new();
+    let mut put = |k: &str, s: &S<f64>| {
+        spans.insert(k.to_string(), s.span());
+        *s.get_ref()
+    };
+    let mut model = Model::new(put("mu0", &rm.mu0), put("v0", &rm.v0), put("a", &rm.a), put("stiffness", &rm.stiffness));
+    if let Some(eta) = &rm.eta {
+        model.eta = put("eta", eta);
+    }
+    if let Some(form) = &rm.form {
+        model.form = match form.get_ref().as_str() {
+            "classic" => FrictionForm::Classic,
+            "regularized" => FrictionForm::Regularized,
+            other => {
+                return Err(err(
+                    Some(&form.span()),
+                    "model.form",
+                    format!("unknown form `{other}`; use \"classic\" or \"regularized\""),
+                ))
+            }
+        };
+    }
+    let states = rm.state.as_deref().unwrap_or(&[]);
+    if states.is_empty() {
+        return Err(err(Some(&raw.model.span()), "model.state", "at least one [[model.state]] table is required".into()));
+    }
+    let mut state_spans = Vec::new();
+    for (i, st) in states.iter().enumerate() {
+        let s = st.get_ref();
+        let field = format!("model.state[{}]", i + 1);
+        let law_name = s.law.get_ref().as_str();
+        let wanted = rsf_laws::law_parameters(law_name);
+        for (pname, val) in [("vc", &s.vc), ("c", &s.c)] {
+            if let Some(v) = val {
+                if !wanted.contains(&pname) {
+                    return Err(err(
+                        Some(&v.span()),
+                        &format!("{field}.{pname}"),
+                        format!("`{pname}` does not apply to law `{law_name}`"),
+                    ));
+                }
+            }
+        }
+        let law = rsf_laws::law_by_name(law_name, |p| match p {
+            "vc" => s.vc.as_ref().map(|v| *v.get_ref()),
+            "c" => s.c.as_ref().map(|v| *v.get_ref()),
+            _ => None,
+        })
+        .map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
+        if law_name == "nagata" && *s.b.get_ref() == 0.0 {
+            return Err(err(Some(&s.b.span()), &format!("{field}.b"), "Nagata's law divides by b; b must not be 0".into()));
+        }
+        spans.insert(format!("state[{}].b", i + 1), s.b.span());
+        spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
+        state_spans.push(st.span());
+        model.states.push(StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref()));
+    }
+    if let Err(e) = model.validate() {
+        return Err(match &e {
+            ModelError::Parameter { name, .. } => err(spans.get(name), &format!("model.{name}"), e.to_string()),
+            ModelError::Law { index, .. } => {
+                err(state_spans.get(index - 1), &format!("model.state[{index}]"), e.to_string())
+            }
+            ModelError::NoState => err(None, "model.state", e.to_string()),
+        });
+    }
+
+    // ---- loading
+    let rl = raw.loading.get_ref();
+    let v_init = *rl.v_init.get_ref();
+    if !(v_init > 0.0 && v_init.is_finite()) {
+        return Err(err(Some(&rl.v_init.span()), "loading.v_init", format!("{v_init} must be positive and finite (µm/s)")));
+    }
+    let (loading, is_record) = match (&rl.segment, &rl.record) {
+        (Some(_), Some(r)) => {
+            return Err(err(Some(&r.span()), "loading.record", "give either [[loading.segment]] tables or a record, not both".into()))
+        }
+        (None, None) => {
+            return Err(err(Some(&raw.loading.span()), "loading", "needs [[loading.segment]] tables or a `record`".into()))
+        }
+        (Some(segs), None) => {
+            let mut out = Vec::new();
+            for (i, sg) in segs.iter().enumerate() {
+                let s = sg.get_ref();
+                let field = format!("loading.segment[{}]", i + 1);
+                let end = match (&s.duration, &s.displacement) {
+                    (Some(d), None) => Segment::for_duration(*s.v.get_ref(), *d.get_ref()),
+                    (None, Some(x)) => Segment::for_displacement(*s.v.get_ref(), *x.get_ref()),
+                    (Some(_), Some(x)) => {
+                        return Err(err(Some(&x.span()), &field, "give exactly one of `duration` and `displacement`, not both".into()))
+                    }
+                    (None, None) => {
+                        return Err(err(Some(&sg.span()), &field, "needs `duration` (s) or `displacement` (µm)".into()))
+                    }
+                };
+                end.duration().map_err(|m| err(Some(&sg.span()), &field, m))?;
+                out.push(end);
+            }
+            if out.is_empty() {
+                return Err(err(Some(&raw.loading.span()), "loading.segment", "the protocol has no segments".into()));
+            }
+            (Loading::Segments(out), false)
+        }
+        (None, Some(r)) => {
+            let rel = PathBuf::from(r.get_ref());
+            let path = match base {
+                Some(b) if rel.is_relative() => b.join(&rel),
+                _ => rel,
+            };
+            let tcol = rl.time_column.as_deref().unwrap_or("time_s");
+            let lcol = rl.load_point_column.as_deref().unwrap_or("load_point_um");
+            let rec = read_load_record(&path, tcol, lcol).map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            (Loading::Record(rec), true)
+        }
+    };
+
+    // ---- output
+    let dt = raw.output.as_ref().and_then(|o| o.get_ref().dt.as_ref());
+    let output = match dt {
+        Some(dt) => {
+            let v = *dt.get_ref();
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(err(Some(&dt.span()), "output.dt", format!("{v} must be positive and finite (s)")));
+            }
+            OutputTimes::Every(v)
+        }
+        None if is_record => OutputTimes::PieceEnds,
+        None => {
+            let span = raw.output.as_ref().map(|o| o.span());
+            return Err(err(span.as_ref(), "output.dt", "required: the output sampling interval in s".into()));
+        }
+    };
+
+    // ---- solver
+    let (mut method_name, mut rtol, mut atol, mut vmax) = (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
+    let mut method_span = None;
+    if let Some(s) = &raw.solver {
+        if let Some(m) = &s.method {
+            method_name = m.get_ref().clone();
+            method_span = Some(m.span());
+        }
+        if let Some(r) = &s.rtol {
+            rtol = *r.get_ref();
+            if !(rtol > 0.0 && rtol < 1.0) {
+                return Err(err(Some(&r.span()), "solver.rtol", format!("{rtol} must be in (0, 1)")));
+            }
+        }
+        if let Some(a) = &s.atol {
+            atol = *a.get_ref();
+            if !(atol >= 0.0 && atol.is_finite()) {
+                return Err(err(Some(&a.span()), "solver.atol", format!("{atol} must be zero or positive")));
+            }
+        }
+        if let Some(v) = &s.max_slip_rate {
+            vmax = *v.get_ref();
+            if !(vmax > v_init) {
+                return Err(err(Some(&v.span()), "solver.max_slip_rate", format!("{vmax} must exceed v_init = {v_init}")));
+            }
+        }
+    }
+    let method = Method::from_name(&method_name, rtol, atol).ok_or_else(|| {
+        err(method_span.as_ref(), "solver.method", format!("unknown method `{method_name}`; use \"implicit\" or \"explicit\""))
+    })?;
+    let problem = Problem { model, loading, v_init, output, max_slip_rate: vmax };
+    Ok(Protocol { problem, method })
+}
+
+/// Reads a load-point record: a CSV with a header naming `time_col` (s) and `lp_col` (µm).
+/// Lines starting with `#` are skipped. Errors name the line and column.
+pub fn read_load_record(path: &Path, time_col: &str, lp_col: &str) -> Result<LoadRecord, String> {
+    let name = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
+    let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |c: &str| {
+        cols.iter().position(|h| *h == c).ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
+    };
+    let (ti, li) = (find(time_col)?, find(lp_col)?);
+    let mut rec = LoadRecord { time: Vec::new(), load_point: Vec::new() };
+    for (ln, line) in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let get = |i: usize, c: &str| -> Result<f64, String> {
+            let cell = cells.get(i).ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?.trim();
+            let v: f64 = cell.parse().map_err(|_| format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1))?;
+            if !v.is_finite() {
+                return Err(format!("{name}:{}: column `{c}`: {v} is not finite", ln + 1));
+            }
+            Ok(v)
+        };
+        let t = get(ti, time_col)?;
+        if let Some(&prev) = rec.time.last() {
+            if t <= prev {
+                return Err(format!("{name}:{}: column `{time_col}`: time {t} does not increase (previous {prev})", ln + 1));
+            }
+        }
+        rec.time.push(t);
+        rec.load_point.push(get(li, lp_col)?);
+    }
+    rec.validate().map_err(|m| format!("{name}: {m}"))?;
+    Ok(rec)
+}

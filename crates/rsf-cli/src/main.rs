@@ -1,0 +1,141 @@
+//! `rsf` — rate-and-state friction from the command line.
+
+mod plot;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(name = "rsf", version, about = "Rate-and-state friction: simulate lab friction experiments")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a spring-slider protocol described in a TOML file.
+    #[command(long_about = SIMULATE_HELP)]
+    Simulate {
+        /// Protocol file (TOML; schema below and in docs/protocol.md).
+        protocol: PathBuf,
+        /// Write the CSV here instead of standard output.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Also write an SVG plot of friction and slip rate against time.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+        /// Override [solver].method: "implicit" (Rodas4) or "explicit" (Dormand-Prince 5(4)).
+        #[arg(long)]
+        method: Option<String>,
+        /// Override [solver].rtol.
+        #[arg(long)]
+        rtol: Option<f64>,
+        /// Override [solver].atol.
+        #[arg(long)]
+        atol: Option<f64>,
+    },
+}
+
+const SIMULATE_HELP: &str = "Simulate a spring-slider protocol described in a TOML file.
+
+Output CSV columns: time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s,...].
+t = 0, load point 0 and slip 0 at the start of the first segment; samples at t = 0, dt, 2dt, ...
+and at the end of the last segment (for a record: at the record's own times).
+
+Protocol schema (units: µm, s, µm/s; k in 1/µm):
+
+[model]
+mu0 = 0.65          # steady-state friction at v0
+v0 = 1.0            # reference slip rate, µm/s
+a = 0.013           # direct effect
+stiffness = 0.065   # k = machine stiffness / normal stress, 1/µm; inf imposes V = V_lp
+eta = 0.0           # optional radiation damping, friction per µm/s (default 0)
+form = \"classic\"    # optional: \"classic\" mu0 + a ln(V/V0) + ... or \"regularized\" (asinh)
+
+[[model.state]]     # one table per state variable, N >= 1; laws may differ
+law = \"slip\"        # \"aging\" | \"slip\" | \"kato-tullis\" | \"prz\" | \"nagata\"
+b = 0.016
+dc = 2.07           # µm
+vc = 1e-3           # µm/s, kato-tullis only
+c = 2.0             # nagata only
+
+[loading]
+v_init = 3.0        # µm/s; the system starts in steady state at this slip rate
+
+[[loading.segment]] # in order; v and exactly one of duration (s) / displacement (µm)
+v = 0.003           # µm/s; 0 = hold (a hold needs a duration)
+duration = 500.0
+# or, instead of segments, a measured load-point record:
+# record = \"run.csv\"            # relative to the protocol file; piecewise linear
+# time_column = \"time_s\"        # optional column names
+# load_point_column = \"load_point_um\"
+
+[output]
+dt = 0.02           # s; optional for a record (default: the record's own times)
+
+[solver]
+method = \"implicit\" # \"implicit\" (Rodas4, exact Jacobian) | \"explicit\" (Dormand-Prince 5(4))
+rtol = 1e-9         # relative error per step in V and theta
+atol = 1e-12        # absolute error in slip, µm
+max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error";
+
+fn main() {
+    let cli = Cli::parse();
+    if let Err(e) = run(cli) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Simulate { protocol, output, plot, method, rtol, atol } => {
+            let mut p = rsf_solvers::protocol::load(&protocol)?;
+            if method.is_some() || rtol.is_some() || atol.is_some() {
+                let tol = match &p.method {
+                    rsf_solvers::Method::Explicit(m) => m.tol,
+                    rsf_solvers::Method::Implicit(m) => m.tol,
+                };
+                let name = method.clone().unwrap_or_else(|| match p.method {
+                    rsf_solvers::Method::Explicit(_) => "explicit".into(),
+                    rsf_solvers::Method::Implicit(_) => "implicit".into(),
+                });
+                p.method = rsf_solvers::Method::from_name(&name, rtol.unwrap_or(tol.rtol), atol.unwrap_or(tol.atol))
+                    .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
+            }
+            let start = Instant::now();
+            let sol = p.method.solve(&p.problem).with_context(|| format!("simulating {}", protocol.display()))?;
+            let solve_s = start.elapsed().as_secs_f64();
+            let start = Instant::now();
+            match &output {
+                Some(path) => {
+                    let f = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+                    sol.write_csv(f).with_context(|| format!("writing {}", path.display()))?;
+                }
+                None => sol.write_csv(std::io::stdout().lock()).context("writing CSV to stdout")?,
+            }
+            let write_s = start.elapsed().as_secs_f64();
+            if let Some(path) = &plot {
+                plot::simulation(&sol, path, &protocol.display().to_string())
+                    .with_context(|| format!("writing plot {}", path.display()))?;
+            }
+            let s = sol.stats;
+            eprintln!(
+                "rsf simulate: {} rows, {} states, method {} | {} steps ({} rejected), {} RHS, {} Jacobians | solve {:.3} ms, write {:.3} ms",
+                sol.len(),
+                sol.theta.len(),
+                sol.method,
+                s.accepted,
+                s.rejected,
+                s.rhs_evals,
+                s.jacobian_evals,
+                solve_s * 1e3,
+                write_s * 1e3
+            );
+            Ok(())
+        }
+    }
+}
