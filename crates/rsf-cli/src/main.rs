@@ -8,7 +8,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(name = "rsf", version, about = "Rate-and-state friction: simulate lab friction experiments")]
+#[command(
+    name = "rsf",
+    version,
+    about = "Rate-and-state friction: simulate lab friction experiments"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -92,7 +96,14 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Simulate { protocol, output, plot, method, rtol, atol } => {
+        Command::Simulate {
+            protocol,
+            output,
+            plot,
+            method,
+            rtol,
+            atol,
+        } => {
             let mut p = rsf_solvers::protocol::load(&protocol)?;
             if method.is_some() || rtol.is_some() || atol.is_some() {
                 let tol = match &p.method {
@@ -103,19 +114,30 @@ fn run(cli: Cli) -> Result<()> {
                     rsf_solvers::Method::Explicit(_) => "explicit".into(),
                     rsf_solvers::Method::Implicit(_) => "implicit".into(),
                 });
-                p.method = rsf_solvers::Method::from_name(&name, rtol.unwrap_or(tol.rtol), atol.unwrap_or(tol.atol))
-                    .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
+                p.method = rsf_solvers::Method::from_name(
+                    &name,
+                    rtol.unwrap_or(tol.rtol),
+                    atol.unwrap_or(tol.atol),
+                )
+                .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
             }
             let start = Instant::now();
-            let sol = p.method.solve(&p.problem).with_context(|| format!("simulating {}", protocol.display()))?;
+            let sol = p
+                .method
+                .solve(&p.problem)
+                .with_context(|| format!("simulating {}", protocol.display()))?;
             let solve_s = start.elapsed().as_secs_f64();
             let start = Instant::now();
             match &output {
                 Some(path) => {
-                    let f = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-                    sol.write_csv(f).with_context(|| format!("writing {}", path.display()))?;
+                    let f = std::fs::File::create(path)
+                        .with_context(|| format!("creating {}", path.display()))?;
+                    sol.write_csv(f)
+                        .with_context(|| format!("writing {}", path.display()))?;
                 }
-                None => sol.write_csv(std::io::stdout().lock()).context("writing CSV to stdout")?,
+                None => sol
+                    .write_csv(std::io::stdout().lock())
+                    .context("writing CSV to stdout")?,
             }
             let write_s = start.elapsed().as_secs_f64();
             if let Some(path) = &plot {

@@ -1,12 +1,16 @@
 //! SVG figures (plotters, SVG backend only: no system libraries needed).
 
-use anyhow::{anyhow, Result};
+use anyhow::{Result, anyhow};
 use plotters::prelude::*;
 use rsf_solvers::Solution;
 use std::path::Path;
 
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = v.filter(|x| x.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+    let (lo, hi) = v
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
@@ -18,7 +22,9 @@ fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
 pub fn simulation(sol: &Solution, path: &Path, title: &str) -> Result<()> {
     let root = SVGBackend::new(path, (900, 650)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-    let root = root.titled(title, ("sans-serif", 18)).map_err(|e| anyhow!("{e}"))?;
+    let root = root
+        .titled(title, ("sans-serif", 18))
+        .map_err(|e| anyhow!("{e}"))?;
     let (top, bottom) = root.split_vertically(320);
     let (t0, t1) = range(sol.time.iter().copied());
     let (m0, m1) = range(sol.mu.iter().copied());
@@ -28,9 +34,16 @@ pub fn simulation(sol: &Solution, path: &Path, title: &str) -> Result<()> {
         .y_label_area_size(70)
         .build_cartesian_2d(t0..t1, m0..m1)
         .map_err(|e| anyhow!("{e}"))?;
-    c.configure_mesh().x_desc("time (s)").y_desc("friction μ").draw().map_err(|e| anyhow!("{e}"))?;
-    c.draw_series(LineSeries::new(sol.time.iter().copied().zip(sol.mu.iter().copied()), BLUE.stroke_width(2)))
+    c.configure_mesh()
+        .x_desc("time (s)")
+        .y_desc("friction μ")
+        .draw()
         .map_err(|e| anyhow!("{e}"))?;
+    c.draw_series(LineSeries::new(
+        sol.time.iter().copied().zip(sol.mu.iter().copied()),
+        BLUE.stroke_width(2),
+    ))
+    .map_err(|e| anyhow!("{e}"))?;
     let logv: Vec<f64> = sol.slip_rate.iter().map(|v| v.log10()).collect();
     let (v0, v1) = range(logv.iter().copied());
     let mut c = ChartBuilder::on(&bottom)
@@ -39,9 +52,16 @@ pub fn simulation(sol: &Solution, path: &Path, title: &str) -> Result<()> {
         .y_label_area_size(70)
         .build_cartesian_2d(t0..t1, v0..v1)
         .map_err(|e| anyhow!("{e}"))?;
-    c.configure_mesh().x_desc("time (s)").y_desc("log10 slip rate (µm/s)").draw().map_err(|e| anyhow!("{e}"))?;
-    c.draw_series(LineSeries::new(sol.time.iter().copied().zip(logv), RED.stroke_width(2)))
+    c.configure_mesh()
+        .x_desc("time (s)")
+        .y_desc("log10 slip rate (µm/s)")
+        .draw()
         .map_err(|e| anyhow!("{e}"))?;
+    c.draw_series(LineSeries::new(
+        sol.time.iter().copied().zip(logv),
+        RED.stroke_width(2),
+    ))
+    .map_err(|e| anyhow!("{e}"))?;
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
 }

@@ -37,7 +37,11 @@ pub(crate) struct FrictionEval {
 
 /// `asinh(e^l)` without overflow.
 fn asinh_exp(l: f64) -> f64 {
-    if l > 0.0 { l + (1.0 + (1.0 + (-2.0 * l).exp()).sqrt()).ln() } else { l.exp().asinh() }
+    if l > 0.0 {
+        l + (1.0 + (1.0 + (-2.0 * l).exp()).sqrt()).ln()
+    } else {
+        l.exp().asinh()
+    }
 }
 
 /// `1/sqrt(1 + e^(−2l))` without overflow.
@@ -72,7 +76,12 @@ impl FrictionForm {
                 let c = logistic_root(l);
                 // dc/dL = c (1 − c²)
                 let dc = c * (1.0 - c * c);
-                FrictionEval { f_x: a * c, f_psi: c, d_fx_dl: a * dc, d_fpsi_dl: dc }
+                FrictionEval {
+                    f_x: a * c,
+                    f_psi: c,
+                    d_fx_dl: a * dc,
+                    d_fpsi_dl: dc,
+                }
             }
         }
     }
@@ -111,7 +120,9 @@ mod tests {
             // difference is O(exp(-2 mu/a)) = exp(-120): zero in f64
             assert_relative_eq!(c, r, max_relative = 1e-14);
             for form in [FrictionForm::Classic, FrictionForm::Regularized] {
-                let v = form.slip_rate(mu0, a, v0, form.friction(mu0, a, v0, x, psi), psi).unwrap();
+                let v = form
+                    .slip_rate(mu0, a, v0, form.friction(mu0, a, v0, x, psi), psi)
+                    .unwrap();
                 assert_relative_eq!(v.ln(), x, epsilon = 1e-9);
             }
         }
@@ -120,7 +131,11 @@ mod tests {
         assert!(r >= 0.0 && r < 1e-300);
         // no overflow for tiny a
         let r = FrictionForm::Regularized.friction(0.7, 1e-4, 1.0, 0.0, 0.0);
-        assert_relative_eq!(r, 0.7 - 1e-4 * 2f64.ln() + 1e-4 * 2f64.ln(), epsilon = 1e-12);
+        assert_relative_eq!(
+            r,
+            0.7 - 1e-4 * 2f64.ln() + 1e-4 * 2f64.ln(),
+            epsilon = 1e-12
+        );
     }
 
     #[test]

@@ -23,7 +23,7 @@
 //! assert!((mu - (0.6 + (0.01 - 0.012) * 10f64.ln())).abs() < 1e-14);
 //! ```
 
-use rsf_core::{DynStateLaw, Real, StateArgs, StateLaw};
+use rsf_core::{DynStateLaw, Jet, Real, StateArgs, StateLaw};
 use std::sync::Arc;
 
 /// Dieterich's Aging law, `dθ/dt = 1 − Vθ/Dc`.
@@ -42,6 +42,15 @@ impl StateLaw for Aging {
     }
     fn name(&self) -> String {
         "aging".into()
+    }
+    /// Hand-derived: ∂G/∂V = −θ/Dc, ∂G/∂θ = −V/Dc (checked against the dual-number default).
+    fn jet(&self, s: &StateArgs<f64>) -> Jet {
+        Jet {
+            rate: 1.0 - s.v * s.theta / s.dc,
+            d_v: -s.theta / s.dc,
+            d_theta: -s.v / s.dc,
+            d_stress_rate: 0.0,
+        }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
         Ok(dc / v)
@@ -65,6 +74,17 @@ impl StateLaw for Slip {
     }
     fn name(&self) -> String {
         "slip".into()
+    }
+    /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1).
+    fn jet(&self, s: &StateArgs<f64>) -> Jet {
+        let omega = s.v * s.theta / s.dc;
+        let l = omega.ln();
+        Jet {
+            rate: -omega * l,
+            d_v: -(s.theta / s.dc) * (l + 1.0),
+            d_theta: -(s.v / s.dc) * (l + 1.0),
+            d_stress_rate: 0.0,
+        }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
         Ok(dc / v)
@@ -101,7 +121,10 @@ impl StateLaw for KatoTullis {
         if self.vc > 0.0 && self.vc.is_finite() {
             Ok(())
         } else {
-            Err(format!("vc = {} must be positive and finite (µm/s)", self.vc))
+            Err(format!(
+                "vc = {} must be positive and finite (µm/s)",
+                self.vc
+            ))
         }
     }
     /// Solves `Ω ln Ω = q`, `q = exp(−V/Vc)`, by Newton from Ω = 1 + q (convex, monotone).
@@ -176,7 +199,10 @@ impl StateLaw for Nagata {
         if self.c >= 0.0 && self.c.is_finite() {
             Ok(())
         } else {
-            Err(format!("c = {} must be zero or positive and finite", self.c))
+            Err(format!(
+                "c = {} must be zero or positive and finite",
+                self.c
+            ))
         }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
@@ -193,7 +219,8 @@ pub fn law_by_name(
     name: &str,
     param: impl Fn(&'static str) -> Option<f64>,
 ) -> Result<Arc<dyn DynStateLaw>, String> {
-    let need = |p: &'static str| param(p).ok_or_else(|| format!("law `{name}` needs parameter `{p}`"));
+    let need =
+        |p: &'static str| param(p).ok_or_else(|| format!("law `{name}` needs parameter `{p}`"));
     Ok(match name {
         "aging" => Arc::new(Aging),
         "slip" => Arc::new(Slip),
@@ -201,7 +228,10 @@ pub fn law_by_name(
         "prz" => Arc::new(Prz),
         "nagata" => Arc::new(Nagata { c: need("c")? }),
         other => {
-            return Err(format!("unknown law `{other}`; known laws: {}", LAW_NAMES.join(", ")));
+            return Err(format!(
+                "unknown law `{other}`; known laws: {}",
+                LAW_NAMES.join(", ")
+            ));
         }
     })
 }
@@ -221,9 +251,13 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn all() -> Vec<Arc<dyn DynStateLaw>> {
-        vec![Arc::new(Aging), Arc::new(Slip), Arc::new(KatoTullis { vc: 0.05 }), Arc::new(Prz), Arc::new(Nagata {
-            c: 2.0,
-        })]
+        vec![
+            Arc::new(Aging),
+            Arc::new(Slip),
+            Arc::new(KatoTullis { vc: 0.05 }),
+            Arc::new(Prz),
+            Arc::new(Nagata { c: 2.0 }),
+        ]
     }
 
     /// Exact (dual-number) partials agree with central differences of the same law.
@@ -231,7 +265,13 @@ mod tests {
     fn jets_match_finite_differences() {
         for law in all() {
             for &(v, theta, sr) in &[(1.0, 3.0, 0.0), (0.01, 500.0, 1e-3), (30.0, 0.05, -0.2)] {
-                let s = StateArgs { v, theta, dc: 10.0, b: 0.01, stress_rate: sr };
+                let s = StateArgs {
+                    v,
+                    theta,
+                    dc: 10.0,
+                    b: 0.01,
+                    stress_rate: sr,
+                };
                 let j = law.jet(&s);
                 assert_relative_eq!(j.rate, law.rate(&s), max_relative = 1e-15);
                 let fd = |f: &dyn Fn(f64) -> StateArgs<f64>, x: f64| {
@@ -240,10 +280,44 @@ mod tests {
                 };
                 let dv = fd(&|x| StateArgs { v: x, ..s }, v);
                 let dt = fd(&|x| StateArgs { theta: x, ..s }, theta);
-                let ds = fd(&|x| StateArgs { stress_rate: x, ..s }, sr);
+                let ds = fd(
+                    &|x| StateArgs {
+                        stress_rate: x,
+                        ..s
+                    },
+                    sr,
+                );
                 assert_relative_eq!(j.d_v, dv, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_theta, dt, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_stress_rate, ds, max_relative = 1e-6, epsilon = 1e-9);
+            }
+        }
+    }
+
+    /// The hand-derived jets of Aging and Slip equal the dual-number default.
+    #[test]
+    fn hand_jets_equal_the_automatic_ones() {
+        #[derive(Debug)]
+        struct Auto<L: StateLaw>(L);
+        impl<L: StateLaw> StateLaw for Auto<L> {
+            fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+                self.0.theta_rate(s)
+            }
+        }
+        for &(v, theta) in &[(1.0, 3.0), (1e-4, 7e3), (30.0, 0.01)] {
+            let s = StateArgs::new(v, theta, 10.0, 0.01);
+            for (h, a) in [
+                (StateLaw::jet(&Aging, &s), StateLaw::jet(&Auto(Aging), &s)),
+                (StateLaw::jet(&Slip, &s), StateLaw::jet(&Auto(Slip), &s)),
+            ] {
+                for (x, y) in [
+                    (h.rate, a.rate),
+                    (h.d_v, a.d_v),
+                    (h.d_theta, a.d_theta),
+                    (h.d_stress_rate, a.d_stress_rate),
+                ] {
+                    assert_relative_eq!(x, y, max_relative = 1e-14, epsilon = 1e-300);
+                }
             }
         }
     }
@@ -280,8 +354,16 @@ mod tests {
             let law = law_by_name(n, |_| Some(1.0)).unwrap();
             assert_eq!(law.name(), n);
         }
-        assert!(law_by_name("kato-tullis", |_| None).unwrap_err().contains("vc"));
-        assert!(law_by_name("dieterich", |_| None).unwrap_err().contains("unknown law `dieterich`"));
+        assert!(
+            law_by_name("kato-tullis", |_| None)
+                .unwrap_err()
+                .contains("vc")
+        );
+        assert!(
+            law_by_name("dieterich", |_| None)
+                .unwrap_err()
+                .contains("unknown law `dieterich`")
+        );
         assert!(StateLaw::validate(&KatoTullis { vc: -1.0 }).is_err());
     }
 }

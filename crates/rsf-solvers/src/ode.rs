@@ -74,7 +74,9 @@ pub enum IntegrationError {
         h: f64,
     },
     /// The step budget ran out.
-    #[error("more than {steps} steps at t = {t} s without reaching the end; the problem may be stiff (try the implicit method)")]
+    #[error(
+        "more than {steps} steps at t = {t} s without reaching the end; the problem may be stiff (try the implicit method)"
+    )]
     TooManySteps {
         /// Time, s.
         t: f64,
@@ -170,7 +172,11 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
         dnf += (f0[i] / sk).powi(2);
         dny += (y0[i] / sk).powi(2);
     }
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
     // ‖y0‖ means nothing for log variables (ln V = 0 at V = 1 µm/s): keep the first guess
     // from collapsing to round-off so that the curvature estimate below can set the step.
     h = h.max(1e-9 * span).max(1e3 * h_min(0.0)).min(span);
@@ -210,7 +216,12 @@ mod tests {
     }
     impl OdeSystem<4> for Osc {
         fn rhs(&self, y: &SVector<f64, 4>) -> SVector<f64, 4> {
-            SVector::<f64, 4>::new(y[1], -y[0], -self.lambda * (y[2] - y[3].cos()) - y[3].sin(), 1.0)
+            SVector::<f64, 4>::new(
+                y[1],
+                -y[0],
+                -self.lambda * (y[2] - y[3].cos()) - y[3].sin(),
+                1.0,
+            )
         }
         fn rhs_and_jacobian(&self, y: &SVector<f64, 4>) -> (SVector<f64, 4>, SMatrix<f64, 4, 4>) {
             let mut j = SMatrix::<f64, 4, 4>::zeros();
@@ -229,9 +240,18 @@ mod tests {
         let mut stats = StepStats::default();
         let mut dense_err: f64 = 0.0;
         let r = alg
-            .integrate(&Osc { lambda }, 0.0, exact(0.0), 10.0, 0.0, t_out, &mut |t, y| {
-                dense_err = dense_err.max((y - exact(t)).amax());
-            }, &mut stats)
+            .integrate(
+                &Osc { lambda },
+                0.0,
+                exact(0.0),
+                10.0,
+                0.0,
+                t_out,
+                &mut |t, y| {
+                    dense_err = dense_err.max((y - exact(t)).amax());
+                },
+                &mut stats,
+            )
             .unwrap();
         ((r.y - exact(10.0)).amax(), dense_err, stats)
     }
@@ -246,14 +266,28 @@ mod tests {
             for rtol in [1e-5, 1e-7, 1e-9] {
                 let (e_d, d_d, s_d) = run(&Dopri5::new(rtol, rtol), lambda, &t_out);
                 let (e_r, d_r, s_r) = run(&Rodas4::new(rtol, rtol), lambda, &t_out);
-                assert!(e_d < 200.0 * rtol && e_r < 200.0 * rtol, "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}");
-                assert!(d_d < 500.0 * rtol && d_r < 500.0 * rtol, "λ={lambda} rtol={rtol}: dense errors {d_d:e} {d_r:e}");
+                assert!(
+                    e_d < 200.0 * rtol && e_r < 200.0 * rtol,
+                    "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}"
+                );
+                assert!(
+                    d_d < 500.0 * rtol && d_r < 500.0 * rtol,
+                    "λ={lambda} rtol={rtol}: dense errors {d_d:e} {d_r:e}"
+                );
                 assert!(e_r < prev, "error must fall with tolerance");
                 prev = e_r;
-                println!("λ={lambda:e} rtol={rtol:e}: dopri5 {} steps, rodas4 {} steps", s_d.accepted, s_r.accepted);
+                println!(
+                    "λ={lambda:e} rtol={rtol:e}: dopri5 {} steps, rodas4 {} steps",
+                    s_d.accepted, s_r.accepted
+                );
                 if lambda > 1e3 {
                     // stiff: the implicit method needs far fewer steps than the explicit one
-                    assert!(s_r.accepted * 3 < s_d.accepted, "stiff: rodas4 {} vs dopri5 {} steps", s_r.accepted, s_d.accepted);
+                    assert!(
+                        s_r.accepted * 3 < s_d.accepted,
+                        "stiff: rodas4 {} vs dopri5 {} steps",
+                        s_r.accepted,
+                        s_d.accepted
+                    );
                 }
             }
         }
@@ -270,7 +304,19 @@ mod tests {
             let mut stats = StepStats::default();
             for i in 0..n {
                 let t0 = i as f64 * h;
-                y = alg.integrate(&Osc { lambda: 1.0 }, t0, y, t0 + h, h, &[], &mut |_, _| {}, &mut stats).unwrap().y;
+                y = alg
+                    .integrate(
+                        &Osc { lambda: 1.0 },
+                        t0,
+                        y,
+                        t0 + h,
+                        h,
+                        &[],
+                        &mut |_, _| {},
+                        &mut stats,
+                    )
+                    .unwrap()
+                    .y;
             }
             (y - exact(2.0)).amax()
         }

@@ -28,8 +28,8 @@
 //! assert_eq!(sol.time.last(), Some(&(10.0 / 0.3)));
 //! ```
 
-use crate::solve::{OutputTimes, Problem};
 use crate::Method;
+use crate::solve::{OutputTimes, Problem};
 use rsf_core::{FrictionForm, LoadRecord, Loading, Model, ModelError, Segment, StateVariable};
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -162,11 +162,16 @@ pub fn load(path: &Path) -> Result<Protocol, ProtocolError> {
 /// Parses protocol text. `base` resolves a relative `record` path; `file` names the source
 /// in messages.
 pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, ProtocolError> {
-    let line_of = |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
+    let line_of =
+        |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
     let err = |span: Option<&Range<usize>>, field: &str, message: String| ProtocolError {
         file: file.to_string(),
         line: span.and_then(line_of),
-        field: if field.is_empty() { None } else { Some(field.to_string()) },
+        field: if field.is_empty() {
+            None
+        } else {
+            Some(field.to_string())
+        },
         message,
     };
     let raw: RawFile = toml::from_str(text).map_err(|e| {
@@ -181,7 +186,12 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         spans.insert(k.to_string(), s.span());
         *s.get_ref()
     };
-    let mut model = Model::new(put("mu0", &rm.mu0), put("v0", &rm.v0), put("a", &rm.a), put("stiffness", &rm.stiffness));
+    let mut model = Model::new(
+        put("mu0", &rm.mu0),
+        put("v0", &rm.v0),
+        put("a", &rm.a),
+        put("stiffness", &rm.stiffness),
+    );
     if let Some(eta) = &rm.eta {
         model.eta = put("eta", eta);
     }
@@ -194,13 +204,17 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                     Some(&form.span()),
                     "model.form",
                     format!("unknown form `{other}`; use \"classic\" or \"regularized\""),
-                ))
+                ));
             }
         };
     }
     let states = rm.state.as_deref().unwrap_or(&[]);
     if states.is_empty() {
-        return Err(err(Some(&raw.model.span()), "model.state", "at least one [[model.state]] table is required".into()));
+        return Err(err(
+            Some(&raw.model.span()),
+            "model.state",
+            "at least one [[model.state]] table is required".into(),
+        ));
     }
     let mut state_spans = Vec::new();
     for (i, st) in states.iter().enumerate() {
@@ -226,19 +240,31 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         })
         .map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
         if law_name == "nagata" && *s.b.get_ref() == 0.0 {
-            return Err(err(Some(&s.b.span()), &format!("{field}.b"), "Nagata's law divides by b; b must not be 0".into()));
+            return Err(err(
+                Some(&s.b.span()),
+                &format!("{field}.b"),
+                "Nagata's law divides by b; b must not be 0".into(),
+            ));
         }
         spans.insert(format!("state[{}].b", i + 1), s.b.span());
         spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
         state_spans.push(st.span());
-        model.states.push(StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref()));
+        model.states.push(StateVariable::from_shared(
+            law,
+            *s.b.get_ref(),
+            *s.dc.get_ref(),
+        ));
     }
     if let Err(e) = model.validate() {
         return Err(match &e {
-            ModelError::Parameter { name, .. } => err(spans.get(name), &format!("model.{name}"), e.to_string()),
-            ModelError::Law { index, .. } => {
-                err(state_spans.get(index - 1), &format!("model.state[{index}]"), e.to_string())
+            ModelError::Parameter { name, .. } => {
+                err(spans.get(name), &format!("model.{name}"), e.to_string())
             }
+            ModelError::Law { index, .. } => err(
+                state_spans.get(index - 1),
+                &format!("model.state[{index}]"),
+                e.to_string(),
+            ),
             ModelError::NoState => err(None, "model.state", e.to_string()),
         });
     }
@@ -247,14 +273,26 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     let rl = raw.loading.get_ref();
     let v_init = *rl.v_init.get_ref();
     if !(v_init > 0.0 && v_init.is_finite()) {
-        return Err(err(Some(&rl.v_init.span()), "loading.v_init", format!("{v_init} must be positive and finite (µm/s)")));
+        return Err(err(
+            Some(&rl.v_init.span()),
+            "loading.v_init",
+            format!("{v_init} must be positive and finite (µm/s)"),
+        ));
     }
     let (loading, is_record) = match (&rl.segment, &rl.record) {
         (Some(_), Some(r)) => {
-            return Err(err(Some(&r.span()), "loading.record", "give either [[loading.segment]] tables or a record, not both".into()))
+            return Err(err(
+                Some(&r.span()),
+                "loading.record",
+                "give either [[loading.segment]] tables or a record, not both".into(),
+            ));
         }
         (None, None) => {
-            return Err(err(Some(&raw.loading.span()), "loading", "needs [[loading.segment]] tables or a `record`".into()))
+            return Err(err(
+                Some(&raw.loading.span()),
+                "loading",
+                "needs [[loading.segment]] tables or a `record`".into(),
+            ));
         }
         (Some(segs), None) => {
             let mut out = Vec::new();
@@ -265,17 +303,30 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                     (Some(d), None) => Segment::for_duration(*s.v.get_ref(), *d.get_ref()),
                     (None, Some(x)) => Segment::for_displacement(*s.v.get_ref(), *x.get_ref()),
                     (Some(_), Some(x)) => {
-                        return Err(err(Some(&x.span()), &field, "give exactly one of `duration` and `displacement`, not both".into()))
+                        return Err(err(
+                            Some(&x.span()),
+                            &field,
+                            "give exactly one of `duration` and `displacement`, not both".into(),
+                        ));
                     }
                     (None, None) => {
-                        return Err(err(Some(&sg.span()), &field, "needs `duration` (s) or `displacement` (µm)".into()))
+                        return Err(err(
+                            Some(&sg.span()),
+                            &field,
+                            "needs `duration` (s) or `displacement` (µm)".into(),
+                        ));
                     }
                 };
-                end.duration().map_err(|m| err(Some(&sg.span()), &field, m))?;
+                end.duration()
+                    .map_err(|m| err(Some(&sg.span()), &field, m))?;
                 out.push(end);
             }
             if out.is_empty() {
-                return Err(err(Some(&raw.loading.span()), "loading.segment", "the protocol has no segments".into()));
+                return Err(err(
+                    Some(&raw.loading.span()),
+                    "loading.segment",
+                    "the protocol has no segments".into(),
+                ));
             }
             (Loading::Segments(out), false)
         }
@@ -287,7 +338,8 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             };
             let tcol = rl.time_column.as_deref().unwrap_or("time_s");
             let lcol = rl.load_point_column.as_deref().unwrap_or("load_point_um");
-            let rec = read_load_record(&path, tcol, lcol).map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            let rec = read_load_record(&path, tcol, lcol)
+                .map_err(|m| err(Some(&r.span()), "loading.record", m))?;
             (Loading::Record(rec), true)
         }
     };
@@ -298,19 +350,28 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         Some(dt) => {
             let v = *dt.get_ref();
             if !(v > 0.0 && v.is_finite()) {
-                return Err(err(Some(&dt.span()), "output.dt", format!("{v} must be positive and finite (s)")));
+                return Err(err(
+                    Some(&dt.span()),
+                    "output.dt",
+                    format!("{v} must be positive and finite (s)"),
+                ));
             }
             OutputTimes::Every(v)
         }
         None if is_record => OutputTimes::PieceEnds,
         None => {
             let span = raw.output.as_ref().map(|o| o.span());
-            return Err(err(span.as_ref(), "output.dt", "required: the output sampling interval in s".into()));
+            return Err(err(
+                span.as_ref(),
+                "output.dt",
+                "required: the output sampling interval in s".into(),
+            ));
         }
     };
 
     // ---- solver
-    let (mut method_name, mut rtol, mut atol, mut vmax) = (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
+    let (mut method_name, mut rtol, mut atol, mut vmax) =
+        (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
     let mut method_span = None;
     if let Some(s) = &raw.solver {
         if let Some(m) = &s.method {
@@ -320,26 +381,48 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         if let Some(r) = &s.rtol {
             rtol = *r.get_ref();
             if !(rtol > 0.0 && rtol < 1.0) {
-                return Err(err(Some(&r.span()), "solver.rtol", format!("{rtol} must be in (0, 1)")));
+                return Err(err(
+                    Some(&r.span()),
+                    "solver.rtol",
+                    format!("{rtol} must be in (0, 1)"),
+                ));
             }
         }
         if let Some(a) = &s.atol {
             atol = *a.get_ref();
             if !(atol >= 0.0 && atol.is_finite()) {
-                return Err(err(Some(&a.span()), "solver.atol", format!("{atol} must be zero or positive")));
+                return Err(err(
+                    Some(&a.span()),
+                    "solver.atol",
+                    format!("{atol} must be zero or positive"),
+                ));
             }
         }
         if let Some(v) = &s.max_slip_rate {
             vmax = *v.get_ref();
             if !(vmax > v_init) {
-                return Err(err(Some(&v.span()), "solver.max_slip_rate", format!("{vmax} must exceed v_init = {v_init}")));
+                return Err(err(
+                    Some(&v.span()),
+                    "solver.max_slip_rate",
+                    format!("{vmax} must exceed v_init = {v_init}"),
+                ));
             }
         }
     }
     let method = Method::from_name(&method_name, rtol, atol).ok_or_else(|| {
-        err(method_span.as_ref(), "solver.method", format!("unknown method `{method_name}`; use \"implicit\" or \"explicit\""))
+        err(
+            method_span.as_ref(),
+            "solver.method",
+            format!("unknown method `{method_name}`; use \"implicit\" or \"explicit\""),
+        )
     })?;
-    let problem = Problem { model, loading, v_init, output, max_slip_rate: vmax };
+    let problem = Problem {
+        model,
+        loading,
+        v_init,
+        output,
+        max_slip_rate: vmax,
+    };
     Ok(Protocol { problem, method })
 }
 
@@ -348,28 +431,47 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
 pub fn read_load_record(path: &Path, time_col: &str, lp_col: &str) -> Result<LoadRecord, String> {
     let name = path.display();
     let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
     let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     let find = |c: &str| {
-        cols.iter().position(|h| *h == c).ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
+        cols.iter()
+            .position(|h| *h == c)
+            .ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
     };
     let (ti, li) = (find(time_col)?, find(lp_col)?);
-    let mut rec = LoadRecord { time: Vec::new(), load_point: Vec::new() };
+    let mut rec = LoadRecord {
+        time: Vec::new(),
+        load_point: Vec::new(),
+    };
     for (ln, line) in lines {
         let cells: Vec<&str> = line.split(',').collect();
         let get = |i: usize, c: &str| -> Result<f64, String> {
-            let cell = cells.get(i).ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?.trim();
-            let v: f64 = cell.parse().map_err(|_| format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1))?;
+            let cell = cells
+                .get(i)
+                .ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?
+                .trim();
+            let v: f64 = cell.parse().map_err(|_| {
+                format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1)
+            })?;
             if !v.is_finite() {
-                return Err(format!("{name}:{}: column `{c}`: {v} is not finite", ln + 1));
+                return Err(format!(
+                    "{name}:{}: column `{c}`: {v} is not finite",
+                    ln + 1
+                ));
             }
             Ok(v)
         };
         let t = get(ti, time_col)?;
         if let Some(&prev) = rec.time.last() {
             if t <= prev {
-                return Err(format!("{name}:{}: column `{time_col}`: time {t} does not increase (previous {prev})", ln + 1));
+                return Err(format!(
+                    "{name}:{}: column `{time_col}`: time {t} does not increase (previous {prev})",
+                    ln + 1
+                ));
             }
         }
         rec.time.push(t);
