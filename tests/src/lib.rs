@@ -15,12 +15,7 @@ pub fn data_dir() -> PathBuf {
 /// `../shared/data/<name>` beside the checkout, if present. Tests that need unlicensed records
 /// use this and print a clear SKIP line when it is absent (CI always has it).
 pub fn shared_data(name: &str) -> Option<PathBuf> {
-    let p = crate_dir()
-        .join("..")
-        .join("..")
-        .join("shared")
-        .join("data")
-        .join(name);
+    let p = crate_dir().join("..").join("..").join("shared").join("data").join(name);
     if p.exists() { Some(p) } else { None }
 }
 
@@ -28,12 +23,7 @@ pub fn shared_data(name: &str) -> Option<PathBuf> {
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(|s| s.trim().to_string())
-        .collect();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(|s| s.trim().to_string()).collect();
     let mut cols = vec![Vec::new(); header.len()];
     for line in lines.filter(|l| !l.trim().is_empty()) {
         for (c, v) in line.split(',').enumerate() {
@@ -67,10 +57,7 @@ pub fn both(p: &Problem, rtol: f64) -> (Solution, Solution) {
 
 /// A problem from (v, duration) segments, sampled every `dt`.
 pub fn problem(model: Model, v_init: f64, segs: &[(f64, f64)], dt: f64) -> Problem {
-    let segs = segs
-        .iter()
-        .map(|&(v, d)| Segment::for_duration(v, d))
-        .collect();
+    let segs = segs.iter().map(|&(v, d)| Segment::for_duration(v, d)).collect();
     Problem::new(model, Loading::Segments(segs), v_init, dt)
 }
 
@@ -80,3 +67,9 @@ pub fn problem_at(model: Model, v_init: f64, segs: &[(f64, f64)], times: Vec<f64
     p.output = OutputTimes::Times(times);
     p
 }
+
+// The user guide's code blocks are compiled and run as doctests of this crate.
+#[doc = include_str!("../../docs/solvers.md")]
+pub mod guide_solvers {}
+#[doc = include_str!("../../docs/library.md")]
+pub mod guide_library {}

@@ -7,30 +7,12 @@ use rsf_solvers::{Dopri5, Rodas4, SolveError, solve};
 use rsf_tests::{model1, problem};
 
 /// Steps up and down, a 300 s hold and a reslide.
-const PROTOCOL: [(f64, f64); 5] = [
-    (10.0, 2.0),
-    (0.1, 50.0),
-    (0.0, 300.0),
-    (1.0, 30.0),
-    (0.01, 200.0),
-];
+const PROTOCOL: [(f64, f64); 5] = [(10.0, 2.0), (0.1, 50.0), (0.0, 300.0), (1.0, 30.0), (0.01, 200.0)];
 
 fn cases() -> Vec<(String, rsf_core::Model)> {
     let mut v: Vec<(String, rsf_core::Model)> = ["aging", "slip", "kato-tullis", "prz", "nagata"]
         .iter()
-        .map(|law| {
-            (
-                law.to_string(),
-                model1(
-                    law,
-                    0.011,
-                    0.014,
-                    3.0,
-                    0.02,
-                    if *law == "nagata" { 2.0 } else { 0.05 },
-                ),
-            )
-        })
+        .map(|law| (law.to_string(), model1(law, 0.011, 0.014, 3.0, 0.02, if *law == "nagata" { 2.0 } else { 0.05 })))
         .collect();
     let two = model1("slip", 0.011, 0.008, 3.0, 0.02, 0.0).with_state(StateVariable::from_shared(
         rsf_laws::law_by_name("aging", |_| None).unwrap(),
@@ -42,10 +24,7 @@ fn cases() -> Vec<(String, rsf_core::Model)> {
         "slip regularized".into(),
         model1("slip", 0.011, 0.014, 3.0, 0.02, 0.0).with_form(FrictionForm::Regularized),
     ));
-    v.push((
-        "aging damped".into(),
-        model1("aging", 0.011, 0.014, 3.0, 0.02, 0.0).with_eta(0.05),
-    ));
+    v.push(("aging damped".into(), model1("aging", 0.011, 0.014, 3.0, 0.02, 0.0).with_eta(0.05)));
     v
 }
 
@@ -57,17 +36,8 @@ fn explicit_and_implicit_agree_within_tolerance() {
         for (rtol, bound) in [(1e-7, 1e-5), (1e-10, 1e-8)] {
             let e = solve(&p, &Dopri5::new(rtol, rtol * 1e-3)).unwrap();
             let i = solve(&p, &Rodas4::new(rtol, rtol * 1e-3)).unwrap();
-            let dmu =
-                e.mu.iter()
-                    .zip(&i.mu)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-            let dv = e
-                .slip_rate
-                .iter()
-                .zip(&i.slip_rate)
-                .map(|(a, b)| (a / b - 1.0).abs())
-                .fold(0.0, f64::max);
+            let dmu = e.mu.iter().zip(&i.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let dv = e.slip_rate.iter().zip(&i.slip_rate).map(|(a, b)| (a / b - 1.0).abs()).fold(0.0, f64::max);
             println!(
                 "{name:18} rtol {rtol:.0e}: max |Δμ| {dmu:.1e}, max rel ΔV {dv:.1e} | steps dopri5 {} rodas4 {}",
                 e.stats.accepted, i.stats.accepted
@@ -107,11 +77,7 @@ fn radiation_damping_gives_stick_slip_instead_of_blow_up() {
     let p = problem(m.with_eta(5e-7), 0.5, &[(1.0, 4000.0)], 0.1);
     let e = solve(&p, &Dopri5::new(1e-9, 1e-12)).unwrap();
     let i = solve(&p, &Rodas4::new(1e-9, 1e-12)).unwrap();
-    let events = |v: &[f64]| {
-        v.windows(2)
-            .filter(|w| w[0] < 100.0 && w[1] >= 100.0)
-            .count()
-    };
+    let events = |v: &[f64]| v.windows(2).filter(|w| w[0] < 100.0 && w[1] >= 100.0).count();
     let (ne, ni) = (events(&e.slip_rate), events(&i.slip_rate));
     println!(
         "stick-slip: {ne} events (dopri5), {ni} (rodas4); peak V {:.3e} µm/s",

@@ -22,11 +22,7 @@ fn slip_law_decays_exponentially_in_slip() {
                 worst = worst.max((ln_omega - exact).abs());
                 assert!((sol.slip[r] - vf * sol.time[r]).abs() < 1e-9 * (1.0 + sol.slip[r]));
             }
-            assert!(
-                worst < 1e-8,
-                "{vi}->{vf} {}: max |ln Ω − exact| = {worst:e}",
-                sol.method
-            );
+            assert!(worst < 1e-8, "{vi}->{vf} {}: max |ln Ω − exact| = {worst:e}", sol.method);
         }
     }
 }
@@ -38,32 +34,18 @@ fn aging_and_prz_relax_as_their_closed_forms() {
     let dc = 5.0;
     for &(vi, vf) in &[(1.0, 0.01), (1.0, 30.0)] {
         let t_end = 12.0 * dc / vf;
-        let aging = problem(
-            model1("aging", 0.01, 0.012, dc, f64::INFINITY, 0.0),
-            vi,
-            &[(vf, t_end)],
-            t_end / 300.0,
-        );
+        let aging = problem(model1("aging", 0.01, 0.012, dc, f64::INFINITY, 0.0), vi, &[(vf, t_end)], t_end / 300.0);
         let (e, i) = both(&aging, 1e-10);
         for sol in [e, i] {
             for r in 0..sol.len() {
                 let t = sol.time[r];
                 let exact = dc / vf + (dc / vi - dc / vf) * (-vf * t / dc).exp();
                 let rel = (sol.theta[0][r] / exact - 1.0).abs();
-                assert!(
-                    rel < 1e-8,
-                    "aging {vi}->{vf} {} t={t}: rel err {rel:e}",
-                    sol.method
-                );
+                assert!(rel < 1e-8, "aging {vi}->{vf} {} t={t}: rel err {rel:e}", sol.method);
             }
         }
         if vf < vi {
-            let prz = problem(
-                model1("prz", 0.01, 0.012, dc, f64::INFINITY, 0.0),
-                vi,
-                &[(vf, t_end)],
-                t_end / 300.0,
-            );
+            let prz = problem(model1("prz", 0.01, 0.012, dc, f64::INFINITY, 0.0), vi, &[(vf, t_end)], t_end / 300.0);
             let (e, i) = both(&prz, 1e-10);
             let u0: f64 = vf / vi;
             for sol in [e, i] {
@@ -71,11 +53,7 @@ fn aging_and_prz_relax_as_their_closed_forms() {
                     let t = sol.time[r];
                     let exact = (vf * t / (2.0 * dc) + u0.atanh()).tanh();
                     let u = vf * sol.theta[0][r] / (2.0 * dc);
-                    assert!(
-                        (u - exact).abs() < 1e-8,
-                        "prz {} t={t}: {u} vs {exact}",
-                        sol.method
-                    );
+                    assert!((u - exact).abs() < 1e-8, "prz {} t={t}: {u} vs {exact}", sol.method);
                 }
             }
         }
@@ -88,31 +66,17 @@ fn aging_and_prz_relax_as_their_closed_forms() {
 #[test]
 fn steady_state_friction_for_every_law() {
     for law in LAWS {
-        let m = model1(
-            law,
-            0.011,
-            0.015,
-            4.0,
-            0.01,
-            if law == "nagata" { 2.0 } else { 1e-6 },
-        );
+        let m = model1(law, 0.011, 0.015, 4.0, 0.01, if law == "nagata" { 2.0 } else { 1e-6 });
         for &v in &[1e-3, 0.1, 1.0, 30.0] {
             let mu = m.steady_state_friction(v).unwrap();
             let expect = 0.6 + (0.011 - 0.015) * v.ln();
-            assert!(
-                (mu - expect).abs() < 1e-12,
-                "{law} at {v}: {mu} vs {expect}"
-            );
+            assert!((mu - expect).abs() < 1e-12, "{law} at {v}: {mu} vs {expect}");
         }
     }
     // mixed laws, three states
     let mut m = model1("slip", 0.011, 0.006, 4.0, 0.01, 0.0);
     for (law, b, dc) in [("prz", 0.004, 30.0), ("aging", 0.003, 300.0)] {
-        m = m.with_state(StateVariable::from_shared(
-            rsf_laws::law_by_name(law, |_| None).unwrap(),
-            b,
-            dc,
-        ));
+        m = m.with_state(StateVariable::from_shared(rsf_laws::law_by_name(law, |_| None).unwrap(), b, dc));
     }
     let mu = m.steady_state_friction(0.2).unwrap();
     assert!((mu - (0.6 + (0.011 - 0.013) * 0.2f64.ln())).abs() < 1e-12);
@@ -141,11 +105,7 @@ fn simulations_start_on_and_reach_steady_state() {
         for sol in [&e, &i] {
             assert_eq!(sol.mu[0], mu_i, "{law}: first row is not the steady state");
             let drift = sol.mu.iter().map(|x| (x - mu_i).abs()).fold(0.0, f64::max);
-            assert!(
-                drift < 1e-11,
-                "{law} {}: drift {drift:e} while loaded at v_init",
-                sol.method
-            );
+            assert!(drift < 1e-11, "{law} {}: drift {drift:e} while loaded at v_init", sol.method);
         }
         let vf = 0.3;
         let p = problem(m.clone(), 1.0, &[(vf, 300.0 / vf)], 10.0);
@@ -153,11 +113,7 @@ fn simulations_start_on_and_reach_steady_state() {
         let expect = m.steady_state_friction(vf).unwrap();
         for sol in [&e, &i] {
             let end = *sol.mu.last().unwrap();
-            assert!(
-                (end - expect).abs() < 1e-9,
-                "{law} {}: {end} vs steady {expect}",
-                sol.method
-            );
+            assert!((end - expect).abs() < 1e-9, "{law} {}: {end} vs steady {expect}", sol.method);
             assert!((sol.slip_rate.last().unwrap() / vf - 1.0).abs() < 1e-7);
         }
     }

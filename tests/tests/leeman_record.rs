@@ -56,22 +56,11 @@ fn run(c: &Case) -> Option<[(f64, f64, usize); 2]> {
     }
     let t_disp: Vec<f64> = keep.iter().map(|&r| (lp[r] - lp[0]) / v_after).collect();
     let lp_disp: Vec<f64> = keep.iter().map(|&r| lp[r]).collect();
-    let mut p = Problem::new(
-        m.clone(),
-        Loading::Record(LoadRecord {
-            time: t_disp,
-            load_point: lp_disp,
-        }),
-        v_before,
-        1.0,
-    );
+    let mut p =
+        Problem::new(m.clone(), Loading::Record(LoadRecord { time: t_disp, load_point: lp_disp }), v_before, 1.0);
     p.output = OutputTimes::PieceEnds;
     let sol = solve(&p, &Rodas4::new(1e-10, 1e-12)).unwrap();
-    let diffs: Vec<f64> = keep
-        .iter()
-        .enumerate()
-        .map(|(j, &r)| sol.mu[j] - model_mu[r])
-        .collect();
+    let diffs: Vec<f64> = keep.iter().enumerate().map(|(j, &r)| sol.mu[j] - model_mu[r]).collect();
     let stat = |d: &[f64]| {
         (
             (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt(),
@@ -85,15 +74,7 @@ fn run(c: &Case) -> Option<[(f64, f64, usize); 2]> {
         c.file, xlook.2, xlook.0, xlook.1
     );
     // (b) the recorded time history
-    let mut p = Problem::new(
-        m,
-        Loading::Record(LoadRecord {
-            time,
-            load_point: lp,
-        }),
-        v_before,
-        1.0,
-    );
+    let mut p = Problem::new(m, Loading::Record(LoadRecord { time, load_point: lp }), v_before, 1.0);
     p.output = OutputTimes::PieceEnds;
     let e = solve(&p, &Dopri5::new(1e-10, 1e-12)).unwrap();
     let i = solve(&p, &Rodas4::new(1e-10, 1e-12)).unwrap();

@@ -15,31 +15,17 @@ fn build(case: &Value) -> Problem {
         let law_name = case[format!("law{i}")].as_str().unwrap();
         let c = case[format!("c{i}")].as_f64();
         let law = rsf_laws::law_by_name(law_name, |p| if p == "c" { c } else { None }).unwrap();
-        model = model.with_state(StateVariable::from_shared(
-            law,
-            f(&format!("b{i}")),
-            f(&format!("Dc{i}")),
-        ));
+        model = model.with_state(StateVariable::from_shared(law, f(&format!("b{i}")), f(&format!("Dc{i}"))));
     }
-    let sched: Vec<(f64, f64)> = case["schedule"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|r| (r[0].as_f64().unwrap(), r[1].as_f64().unwrap()))
-        .collect();
+    let sched: Vec<(f64, f64)> =
+        case["schedule"].as_array().unwrap().iter().map(|r| (r[0].as_f64().unwrap(), r[1].as_f64().unwrap())).collect();
     let mut times = Vec::new();
     for g in case["grid"].as_array().unwrap() {
-        let (a, b, dt) = (
-            g[0].as_f64().unwrap(),
-            g[1].as_f64().unwrap(),
-            g[2].as_f64().unwrap(),
-        );
+        let (a, b, dt) = (g[0].as_f64().unwrap(), g[1].as_f64().unwrap(), g[2].as_f64().unwrap());
         let n = ((b - a) / dt).round() as usize;
         times.extend((0..n).map(|i| a + i as f64 * dt));
     }
-    let t_end = case["grid"].as_array().unwrap().last().unwrap()[1]
-        .as_f64()
-        .unwrap();
+    let t_end = case["grid"].as_array().unwrap().last().unwrap()[1].as_f64().unwrap();
     times.push(t_end);
     let mut segs = Vec::new();
     for (i, &(t0, v)) in sched.iter().enumerate() {
@@ -59,20 +45,12 @@ struct Diff {
 }
 
 fn compare(sol: &rsf_solvers::Solution, cols: &[Vec<f64>]) -> Diff {
-    let mut d = Diff {
-        mu: 0.0,
-        v_rel: 0.0,
-        theta_rel: 0.0,
-        lp: 0.0,
-    };
+    let mut d = Diff { mu: 0.0, v_rel: 0.0, theta_rel: 0.0, lp: 0.0 };
     for r in 0..sol.len() {
         if cols[2][r].is_nan() {
             continue;
         }
-        assert!(
-            (sol.time[r] - cols[0][r]).abs() < 1e-9,
-            "grid mismatch at row {r}"
-        );
+        assert!((sol.time[r] - cols[0][r]).abs() < 1e-9, "grid mismatch at row {r}");
         d.lp = d.lp.max((sol.load_point[r] - cols[1][r]).abs());
         d.mu = d.mu.max((sol.mu[r] - cols[2][r]).abs());
         d.v_rel = d.v_rel.max((sol.slip_rate[r] / cols[3][r] - 1.0).abs());
@@ -93,10 +71,7 @@ fn reference_cases_agree_to_1e_9_in_friction() {
         let tight = read_csv(&data_dir().join(format!("reference/tight_radau/{name}.csv"))).1;
         let peer = read_csv(&data_dir().join(format!("reference/rsfmodel/{name}.csv"))).1;
         let blowup = case["accuracy"]["reference_blowup_time_s"].as_f64();
-        for method in [
-            Method::Explicit(Dopri5::new(rtol, 1e-14)),
-            Method::Implicit(Rodas4::new(rtol, 1e-14)),
-        ] {
+        for method in [Method::Explicit(Dopri5::new(rtol, 1e-14)), Method::Implicit(Rodas4::new(rtol, 1e-14))] {
             match (method.solve(&problem), blowup) {
                 (Ok(sol), None) => {
                     assert_eq!(sol.len(), tight[0].len(), "{name}: row count");
@@ -120,20 +95,12 @@ fn reference_cases_agree_to_1e_9_in_friction() {
                         dt.mu,
                         dp.mu
                     );
-                    assert!(
-                        dt.v_rel < 1e-7 && dt.theta_rel < 1e-7,
-                        "{name}: V/theta differ"
-                    );
+                    assert!(dt.v_rel < 1e-7 && dt.theta_rel < 1e-7, "{name}: V/theta differ");
                     assert!(dt.lp < 1e-9, "{name}: load point differs by {:e}", dt.lp);
                 }
                 (Err(SolveError::BlowUp { t, v, .. }), Some(tb)) => {
-                    println!(
-                        "{name:28} blow-up reported at t = {t:.7} s (reference {tb:.7} s), V = {v:.2e}"
-                    );
-                    assert!(
-                        (t - tb).abs() < 1e-5,
-                        "{name}: blow-up at {t}, reference {tb}"
-                    );
+                    println!("{name:28} blow-up reported at t = {t:.7} s (reference {tb:.7} s), V = {v:.2e}");
+                    assert!((t - tb).abs() < 1e-5, "{name}: blow-up at {t}, reference {tb}");
                 }
                 (Ok(_), Some(tb)) => panic!("{name}: blow-up at {tb} s not reported"),
                 (Err(e), _) => panic!("{name}: unexpected error {e}"),
@@ -146,15 +113,8 @@ fn reference_cases_agree_to_1e_9_in_friction() {
 #[test]
 fn blowup_message_names_the_time() {
     let cases = reference_cases();
-    let case = cases["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "b_slip_vstep_1_10")
-        .unwrap();
-    let err = Method::Implicit(Rodas4::new(1e-8, 1e-12))
-        .solve(&build(case))
-        .unwrap_err();
+    let case = cases["cases"].as_array().unwrap().iter().find(|c| c["name"] == "b_slip_vstep_1_10").unwrap();
+    let err = Method::Implicit(Rodas4::new(1e-8, 1e-12)).solve(&build(case)).unwrap_err();
     let msg = err.to_string();
     assert!(msg.contains("t = 11.355"), "{msg}");
     assert!(msg.contains("eta"), "{msg}");

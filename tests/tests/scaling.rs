@@ -41,21 +41,11 @@ fn dimensional(m: &Model, vi: f64, ratio: f64, ts: &[f64]) -> (Vec<f64>, Vec<f64
     let p = problem_at(m.clone(), vi, &[(ratio * vi, t_end)], times);
     let sol = solve(&p, &Rodas4::new(1e-11, 1e-14)).unwrap();
     let mu_i = m.steady_state_friction(vi).unwrap();
-    (
-        sol.mu.iter().map(|x| x - mu_i).collect(),
-        sol.slip_rate.iter().map(|v| v / vi).collect(),
-    )
+    (sol.mu.iter().map(|x| x - mu_i).collect(), sol.slip_rate.iter().map(|v| v / vi).collect())
 }
 
 fn arb_model() -> impl Strategy<Value = Model> {
-    (
-        0usize..4,
-        0.005f64..0.02,
-        0.005f64..0.025,
-        0.5f64..50.0,
-        -3.0f64..-1.0,
-        0.5f64..3.0,
-    )
+    (0usize..4, 0.005f64..0.02, 0.005f64..0.025, 0.5f64..50.0, -3.0f64..-1.0, 0.5f64..3.0)
         .prop_map(|(law, a, b, dc, lk, c)| model1(LAWS[law], a, b, dc, 10f64.powf(lk), c))
 }
 
@@ -113,10 +103,6 @@ fn kato_tullis_breaks_the_identity() {
     let ts: Vec<f64> = (0..=20).map(|i| 200.0 * i as f64 / 20.0).collect();
     let (d1, _) = dimensional(&m, 0.5, 0.0, &ts);
     let (d2, _) = dimensional(&m, 0.005, 0.0, &ts);
-    let max = d1
-        .iter()
-        .zip(&d2)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let max = d1.iter().zip(&d2).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(max > 1e-3, "max difference {max}");
 }

@@ -39,14 +39,9 @@ fn slip_law_minima_are_linear_in_log_step_size() {
     let pts = minima("slip", 0.013, 0.016, 2.07);
     let (slope_decade, _, r2) = linfit(&pts);
     let per_efold = slope_decade / std::f64::consts::LN_10;
-    println!(
-        "slip: {pts:?}\n  slope {slope_decade:.5}/decade = {per_efold:.5}/e-fold, R² = {r2:.6}"
-    );
+    println!("slip: {pts:?}\n  slope {slope_decade:.5}/decade = {per_efold:.5}/e-fold, R² = {r2:.6}");
     // The paper reports ≈ −0.009; the exact value of this model is −0.0087 per e-fold.
-    assert!(
-        (per_efold + 0.0087).abs() < 0.05 * 0.0087,
-        "slope {per_efold} per e-fold"
-    );
+    assert!((per_efold + 0.0087).abs() < 0.05 * 0.0087, "slope {per_efold} per e-fold");
     assert!(r2 > 0.99, "R² = {r2}");
     // nearly constant increments: the last half-decade adds at least 70% of the first
     let inc = |p: &[(f64, f64)], i: usize| p[i].1 - p[i + 1].1;
@@ -66,17 +61,10 @@ fn aging_law_minima_shallow_for_large_steps() {
     let ratio_aging = inc(&pts, 5) / inc(&pts, 0);
     let ratio_slip = inc(&slip, 5) / inc(&slip, 0);
     assert!(ratio_aging < 0.55, "aging increments ratio {ratio_aging}");
-    assert!(
-        ratio_aging < ratio_slip - 0.2,
-        "aging {ratio_aging} vs slip {ratio_slip}"
-    );
+    assert!(ratio_aging < ratio_slip - 0.2, "aging {ratio_aging} vs slip {ratio_slip}");
     for w in pts.windows(2) {
         assert!(w[1].1 < w[0].1, "minima deepen monotonically");
     }
     let direct = -a * (10f64.powf(3.5)).ln();
-    assert!(
-        pts[6].1 > 0.5 * direct,
-        "Δμ_min(3.5) = {} vs −a ln(V_i/V_f) = {direct}",
-        pts[6].1
-    );
+    assert!(pts[6].1 > 0.5 * direct, "Δμ_min(3.5) = {} vs −a ln(V_i/V_f) = {direct}", pts[6].1);
 }

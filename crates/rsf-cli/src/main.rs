@@ -8,11 +8,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(
-    name = "rsf",
-    version,
-    about = "Rate-and-state friction: simulate lab friction experiments"
-)]
+#[command(name = "rsf", version, about = "Rate-and-state friction: simulate lab friction experiments")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -31,13 +27,13 @@ enum Command {
         /// Also write an SVG plot of friction and slip rate against time.
         #[arg(long)]
         plot: Option<PathBuf>,
-        /// Override [solver].method: "implicit" (Rodas4) or "explicit" (Dormand-Prince 5(4)).
+        /// Override the protocol's solver method: "implicit" (Rodas4) or "explicit" (Dormand-Prince 5(4)).
         #[arg(long)]
         method: Option<String>,
-        /// Override [solver].rtol.
+        /// Override the protocol's relative tolerance (solver.rtol).
         #[arg(long)]
         rtol: Option<f64>,
-        /// Override [solver].atol.
+        /// Override the protocol's absolute tolerance (solver.atol).
         #[arg(long)]
         atol: Option<f64>,
     },
@@ -76,6 +72,7 @@ duration = 500.0
 # record = \"run.csv\"            # relative to the protocol file; piecewise linear
 # time_column = \"time_s\"        # optional column names
 # load_point_column = \"load_point_um\"
+# friction_column = \"mu\"        # optional measured friction: plotted, and its misfit reported
 
 [output]
 dt = 0.02           # s; optional for a record (default: the record's own times)
@@ -96,14 +93,7 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Simulate {
-            protocol,
-            output,
-            plot,
-            method,
-            rtol,
-            atol,
-        } => {
+        Command::Simulate { protocol, output, plot, method, rtol, atol } => {
             let mut p = rsf_solvers::protocol::load(&protocol)?;
             if method.is_some() || rtol.is_some() || atol.is_some() {
                 let tol = match &p.method {
@@ -114,35 +104,31 @@ fn run(cli: Cli) -> Result<()> {
                     rsf_solvers::Method::Explicit(_) => "explicit".into(),
                     rsf_solvers::Method::Implicit(_) => "implicit".into(),
                 });
-                p.method = rsf_solvers::Method::from_name(
-                    &name,
-                    rtol.unwrap_or(tol.rtol),
-                    atol.unwrap_or(tol.atol),
-                )
-                .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
+                p.method = rsf_solvers::Method::from_name(&name, rtol.unwrap_or(tol.rtol), atol.unwrap_or(tol.atol))
+                    .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
             }
             let start = Instant::now();
-            let sol = p
-                .method
-                .solve(&p.problem)
-                .with_context(|| format!("simulating {}", protocol.display()))?;
+            let sol = p.method.solve(&p.problem).with_context(|| format!("simulating {}", protocol.display()))?;
             let solve_s = start.elapsed().as_secs_f64();
             let start = Instant::now();
             match &output {
                 Some(path) => {
-                    let f = std::fs::File::create(path)
-                        .with_context(|| format!("creating {}", path.display()))?;
-                    sol.write_csv(f)
-                        .with_context(|| format!("writing {}", path.display()))?;
+                    let f = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+                    sol.write_csv(f).with_context(|| format!("writing {}", path.display()))?;
                 }
-                None => sol
-                    .write_csv(std::io::stdout().lock())
-                    .context("writing CSV to stdout")?,
+                None => sol.write_csv(std::io::stdout().lock()).context("writing CSV to stdout")?,
             }
             let write_s = start.elapsed().as_secs_f64();
             if let Some(path) = &plot {
-                plot::simulation(&sol, path, &protocol.display().to_string())
+                plot::simulation(&sol, p.measured_friction.as_deref(), path, &protocol.display().to_string())
                     .with_context(|| format!("writing plot {}", path.display()))?;
+            }
+            if let Some(mu) = &p.measured_friction {
+                if mu.len() == sol.len() {
+                    let rms =
+                        (mu.iter().zip(&sol.mu).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / mu.len() as f64).sqrt();
+                    eprintln!("rsf simulate: rms misfit to the measured friction column: {rms:.3e}");
+                }
             }
             let s = sol.stats;
             eprintln!(

@@ -34,13 +34,7 @@ pub struct StateArgs<R> {
 impl StateArgs<f64> {
     /// Arguments with zero stress rate (steady or imposed-velocity sliding).
     pub fn new(v: f64, theta: f64, dc: f64, b: f64) -> Self {
-        Self {
-            v,
-            theta,
-            dc,
-            b,
-            stress_rate: 0.0,
-        }
+        Self { v, theta, dc, b, stress_rate: 0.0 }
     }
 }
 
@@ -126,12 +120,7 @@ pub trait StateLaw: Debug + Send + Sync + 'static {
         };
         let g = self.theta_rate(&args);
         let d = g.eps.unwrap_generic(nalgebra::Const::<3>, nalgebra::U1);
-        Jet {
-            rate: g.re,
-            d_v: d[0],
-            d_theta: d[1],
-            d_stress_rate: d[2],
-        }
+        Jet { rate: g.re, d_v: d[0], d_theta: d[1], d_stress_rate: d[2] }
     }
 
     /// Steady-state θ at slip rate `v` (µm/s) for this `dc` (µm): the root of
@@ -143,11 +132,7 @@ pub trait StateLaw: Debug + Send + Sync + 'static {
 
 /// Newton iteration in z = ln θ on G(θ) = 0, bracketing the root so that it cannot wander.
 fn steady_state_by_newton(jet: impl Fn(f64) -> Jet, v: f64, dc: f64) -> Result<f64, String> {
-    let fail = |why: &str| {
-        Err(format!(
-            "no steady state found at V = {v:e} µm/s, Dc = {dc} µm: {why}"
-        ))
-    };
+    let fail = |why: &str| Err(format!("no steady state found at V = {v:e} µm/s, Dc = {dc} µm: {why}"));
     if !(v > 0.0 && v.is_finite() && dc > 0.0 && dc.is_finite()) {
         return fail("V and Dc must be positive and finite");
     }
@@ -194,7 +179,7 @@ fn steady_state_by_newton(jet: impl Fn(f64) -> Jet, v: f64, dc: f64) -> Result<f
         }
         let dz = -j.rate / (j.d_theta * theta);
         let mut zn = z + dz;
-        if !(zn > lo.min(hi) && zn < lo.max(hi)) || !zn.is_finite() {
+        if !(zn > lo.min(hi) && zn < lo.max(hi) && zn.is_finite()) {
             zn = 0.5 * (lo + hi);
         }
         if (zn - z).abs() <= 1e-15 * (1.0 + z.abs()) || (hi - lo).abs() < 1e-15 {

@@ -23,17 +23,11 @@ pub struct Segment {
 impl Segment {
     /// Constant velocity `v` (µm/s) for `duration` seconds.
     pub fn for_duration(v: f64, duration: f64) -> Self {
-        Self {
-            v,
-            end: SegmentEnd::Duration(duration),
-        }
+        Self { v, end: SegmentEnd::Duration(duration) }
     }
     /// Constant velocity `v` (µm/s) for `displacement` µm of load-point travel.
     pub fn for_displacement(v: f64, displacement: f64) -> Self {
-        Self {
-            v,
-            end: SegmentEnd::Displacement(displacement),
-        }
+        Self { v, end: SegmentEnd::Displacement(displacement) }
     }
     /// Duration in s, or a message naming what is wrong.
     pub fn duration(&self) -> Result<f64, String> {
@@ -52,10 +46,7 @@ impl Segment {
                 if self.v == 0.0 {
                     Err("a hold (v = 0) cannot end after a displacement; give a duration".into())
                 } else if !(x.is_finite() && x != 0.0 && x.signum() == self.v.signum()) {
-                    Err(format!(
-                        "displacement = {x} must be finite, non-zero and of the sign of v = {}",
-                        self.v
-                    ))
+                    Err(format!("displacement = {x} must be finite, non-zero and of the sign of v = {}", self.v))
                 } else {
                     Ok(x / self.v)
                 }
@@ -79,11 +70,7 @@ impl LoadRecord {
     /// increasing time. The message names the first offending sample (0-based).
     pub fn validate(&self) -> Result<(), String> {
         if self.time.len() != self.load_point.len() {
-            return Err(format!(
-                "{} times but {} load-point values",
-                self.time.len(),
-                self.load_point.len()
-            ));
+            return Err(format!("{} times but {} load-point values", self.time.len(), self.load_point.len()));
         }
         if self.time.len() < 2 {
             return Err("a load-point record needs at least two samples".into());
@@ -96,10 +83,7 @@ impl LoadRecord {
                 return Err(format!("sample {i}: load point {x} is not finite"));
             }
             if i > 0 && t <= self.time[i - 1] {
-                return Err(format!(
-                    "sample {i}: time {t} s does not increase (previous {} s)",
-                    self.time[i - 1]
-                ));
+                return Err(format!("sample {i}: time {t} s does not increase (previous {} s)", self.time[i - 1]));
             }
         }
         Ok(())
@@ -148,15 +132,8 @@ impl Loading {
                 let mut out = Vec::with_capacity(segs.len());
                 let (mut t, mut lp) = (0.0, 0.0);
                 for (i, s) in segs.iter().enumerate() {
-                    let d = s
-                        .duration()
-                        .map_err(|e| format!("segment {}: {e}", i + 1))?;
-                    out.push(Piece {
-                        t0: t,
-                        t1: t + d,
-                        lp0: lp,
-                        v: s.v,
-                    });
+                    let d = s.duration().map_err(|e| format!("segment {}: {e}", i + 1))?;
+                    out.push(Piece { t0: t, t1: t + d, lp0: lp, v: s.v });
                     t += d;
                     lp += s.v * d;
                 }
@@ -167,12 +144,7 @@ impl Loading {
                 Ok(r.time
                     .windows(2)
                     .zip(r.load_point.windows(2))
-                    .map(|(t, x)| Piece {
-                        t0: t[0],
-                        t1: t[1],
-                        lp0: x[0],
-                        v: (x[1] - x[0]) / (t[1] - t[0]),
-                    })
+                    .map(|(t, x)| Piece { t0: t[0], t1: t[1], lp0: x[0], v: (x[1] - x[0]) / (t[1] - t[0]) })
                     .collect())
             }
         }
@@ -185,54 +157,24 @@ mod tests {
 
     #[test]
     fn segments_become_pieces() {
-        let l = Loading::Segments(vec![
-            Segment::for_duration(1.0, 10.0),
-            Segment::for_displacement(0.5, 2.0),
-        ]);
+        let l = Loading::Segments(vec![Segment::for_duration(1.0, 10.0), Segment::for_displacement(0.5, 2.0)]);
         let p = l.pieces().unwrap();
-        assert_eq!(
-            p[1],
-            Piece {
-                t0: 10.0,
-                t1: 14.0,
-                lp0: 10.0,
-                v: 0.5
-            }
-        );
+        assert_eq!(p[1], Piece { t0: 10.0, t1: 14.0, lp0: 10.0, v: 0.5 });
         assert_eq!(p[1].load_point(14.0), 12.0);
     }
 
     #[test]
     fn bad_segments_are_named() {
-        let e = Loading::Segments(vec![
-            Segment::for_duration(1.0, 1.0),
-            Segment::for_displacement(0.0, 2.0),
-        ])
-        .pieces()
-        .unwrap_err();
-        assert!(e.contains("segment 2") && e.contains("hold"), "{e}");
-        let e = Loading::Segments(vec![Segment::for_duration(1.0, -1.0)])
+        let e = Loading::Segments(vec![Segment::for_duration(1.0, 1.0), Segment::for_displacement(0.0, 2.0)])
             .pieces()
             .unwrap_err();
+        assert!(e.contains("segment 2") && e.contains("hold"), "{e}");
+        let e = Loading::Segments(vec![Segment::for_duration(1.0, -1.0)]).pieces().unwrap_err();
         assert!(e.contains("duration"), "{e}");
-        let r = LoadRecord {
-            time: vec![0.0, 1.0, 1.0],
-            load_point: vec![0.0, 1.0, 2.0],
-        };
+        let r = LoadRecord { time: vec![0.0, 1.0, 1.0], load_point: vec![0.0, 1.0, 2.0] };
         let e = Loading::Record(r).pieces().unwrap_err();
-        assert!(
-            e.contains("sample 2") && e.contains("does not increase"),
-            "{e}"
-        );
-        let r = LoadRecord {
-            time: vec![0.0, 1.0],
-            load_point: vec![0.0, f64::NAN],
-        };
-        assert!(
-            Loading::Record(r)
-                .pieces()
-                .unwrap_err()
-                .contains("not finite")
-        );
+        assert!(e.contains("sample 2") && e.contains("does not increase"), "{e}");
+        let r = LoadRecord { time: vec![0.0, 1.0], load_point: vec![0.0, f64::NAN] };
+        assert!(Loading::Record(r).pieces().unwrap_err().contains("not finite"));
     }
 }

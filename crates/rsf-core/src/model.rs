@@ -19,11 +19,7 @@ pub struct StateVariable {
 impl StateVariable {
     /// A state variable evolving by `law`.
     pub fn new<L: StateLaw>(law: L, b: f64, dc: f64) -> Self {
-        Self {
-            law: Arc::new(law),
-            b,
-            dc,
-        }
+        Self { law: Arc::new(law), b, dc }
     }
     /// A state variable from an already shared law.
     pub fn from_shared(law: Arc<dyn DynStateLaw>, b: f64, dc: f64) -> Self {
@@ -84,15 +80,7 @@ pub struct Model {
 impl Model {
     /// A model with no state variables yet (add them with [`with_state`](Self::with_state)).
     pub fn new(mu0: f64, v0: f64, a: f64, stiffness: f64) -> Self {
-        Self {
-            mu0,
-            v0,
-            a,
-            stiffness,
-            eta: 0.0,
-            form: FrictionForm::Classic,
-            states: Vec::new(),
-        }
+        Self { mu0, v0, a, stiffness, eta: 0.0, form: FrictionForm::Classic, states: Vec::new() }
     }
     /// Adds a state variable.
     pub fn with_state(mut self, s: StateVariable) -> Self {
@@ -122,13 +110,7 @@ impl Model {
 
     /// Checks every parameter; the error names the first bad one.
     pub fn validate(&self) -> Result<(), ModelError> {
-        let p = |name: &str, value: f64, why| {
-            Err(ModelError::Parameter {
-                name: name.into(),
-                value,
-                why,
-            })
-        };
+        let p = |name: &str, value: f64, why| Err(ModelError::Parameter { name: name.into(), value, why });
         if !self.mu0.is_finite() {
             return p("mu0", self.mu0, "must be finite");
         }
@@ -139,11 +121,7 @@ impl Model {
             return p("a", self.a, "must be positive and finite");
         }
         if !(self.stiffness > 0.0) {
-            return p(
-                "stiffness",
-                self.stiffness,
-                "must be positive (inf imposes V = V_lp)",
-            );
+            return p("stiffness", self.stiffness, "must be positive (inf imposes V = V_lp)");
         }
         if !(self.eta >= 0.0 && self.eta.is_finite()) {
             return p("eta", self.eta, "must be zero or positive and finite");
@@ -156,17 +134,9 @@ impl Model {
                 return p(&format!("state[{}].b", i + 1), s.b, "must be finite");
             }
             if !(s.dc > 0.0 && s.dc.is_finite()) {
-                return p(
-                    &format!("state[{}].dc", i + 1),
-                    s.dc,
-                    "must be positive and finite (µm)",
-                );
+                return p(&format!("state[{}].dc", i + 1), s.dc, "must be positive and finite (µm)");
             }
-            s.law.validate().map_err(|why| ModelError::Law {
-                index: i + 1,
-                law: s.law.name(),
-                why,
-            })?;
+            s.law.validate().map_err(|why| ModelError::Law { index: i + 1, law: s.law.name(), why })?;
         }
         Ok(())
     }
@@ -174,23 +144,13 @@ impl Model {
     /// State contribution Ψ = Σ b_i ln(V0 θ_i / (s_i Dc_i)) from ln θ_i.
     pub fn psi_from_ln_theta(&self, ln_theta: &[f64]) -> f64 {
         let lv0 = self.v0.ln();
-        self.states
-            .iter()
-            .zip(ln_theta)
-            .map(|(s, z)| s.b * (lv0 + z - (s.law.theta_scale() * s.dc).ln()))
-            .sum()
+        self.states.iter().zip(ln_theta).map(|(s, z)| s.b * (lv0 + z - (s.law.theta_scale() * s.dc).ln())).sum()
     }
 
     /// Friction (without radiation damping) at slip rate `v` (µm/s) and states `theta` (s).
     pub fn friction(&self, v: f64, theta: &[f64]) -> f64 {
         let z: Vec<f64> = theta.iter().map(|t| t.ln()).collect();
-        self.form.friction(
-            self.mu0,
-            self.a,
-            self.v0,
-            v.ln(),
-            self.psi_from_ln_theta(&z),
-        )
+        self.form.friction(self.mu0, self.a, self.v0, v.ln(), self.psi_from_ln_theta(&z))
     }
 
     /// Steady-state θ_i (s) of every state variable at slip rate `v` (µm/s).
@@ -199,13 +159,11 @@ impl Model {
             .iter()
             .enumerate()
             .map(|(i, s)| {
-                s.law
-                    .steady_state_theta(v, s.dc)
-                    .map_err(|why| ModelError::Law {
-                        index: i + 1,
-                        law: s.law.name(),
-                        why,
-                    })
+                s.law.steady_state_theta(v, s.dc).map_err(|why| ModelError::Law {
+                    index: i + 1,
+                    law: s.law.name(),
+                    why,
+                })
             })
             .collect()
     }
@@ -222,11 +180,7 @@ impl Model {
     /// messages; 0 for velocity strengthening.
     pub fn critical_stiffness_estimate(&self) -> f64 {
         let b: f64 = self.states.iter().map(|s| s.b).sum();
-        let dc = self
-            .states
-            .iter()
-            .map(|s| s.dc)
-            .fold(f64::INFINITY, f64::min);
+        let dc = self.states.iter().map(|s| s.dc).fold(f64::INFINITY, f64::min);
         ((b - self.a) / dc).max(0.0)
     }
 }

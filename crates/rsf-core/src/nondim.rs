@@ -39,24 +39,13 @@ impl<'a> Nondimensional<'a> {
     /// Δμ from non-dimensional variables `y = (ln V', ln θ'_1, …)` (Eq. 10).
     pub fn delta_mu(&self, y: &[f64]) -> f64 {
         let m = self.model;
-        m.a * y[0]
-            + m.states
-                .iter()
-                .zip(&y[1..])
-                .map(|(s, z)| s.b * (z - s.law.theta_scale().ln()))
-                .sum::<f64>()
+        m.a * y[0] + m.states.iter().zip(&y[1..]).map(|(s, z)| s.b * (z - s.law.theta_scale().ln())).sum::<f64>()
     }
 
     /// Maps dimensional `(V, θ_j)` to non-dimensional `y = (ln V', ln θ'_j)`.
     pub fn to_nondimensional(&self, v: f64, theta: &[f64]) -> Vec<f64> {
         let mut y = vec![(v / self.v_i).ln()];
-        y.extend(
-            self.model
-                .states
-                .iter()
-                .zip(theta)
-                .map(|(s, t)| (self.v_i * t / s.dc).ln()),
-        );
+        y.extend(self.model.states.iter().zip(theta).map(|(s, t)| (self.v_i * t / s.dc).ln()));
         y
     }
 
@@ -74,13 +63,7 @@ impl<'a> Nondimensional<'a> {
         for (j, s) in m.states.iter().enumerate() {
             let theta_nd = y[1 + j].exp();
             let theta = s.dc * theta_nd / self.v_i;
-            let g = s.law.rate(&StateArgs {
-                v,
-                theta,
-                dc: s.dc,
-                b: s.b,
-                stress_rate,
-            });
+            let g = s.law.rate(&StateArgs { v, theta, dc: s.dc, b: s.b, stress_rate });
             // d ln θ'/dT = (Dc_1/Dc_j) G / θ'
             let z = dc1 / s.dc * g / theta_nd;
             dy[1 + j] = z;

@@ -60,11 +60,7 @@ impl<'a> SpringSlider<'a> {
     /// Stress rate dτ/dt at slip rate `v`.
     #[inline]
     fn stress_rate(&self, v: f64) -> f64 {
-        if self.model.imposed_velocity() {
-            0.0
-        } else {
-            self.model.stiffness * (self.v_lp - v)
-        }
+        if self.model.imposed_velocity() { 0.0 } else { self.model.stiffness * (self.v_lp - v) }
     }
 
     /// Right-hand side `dy/dt` into `dy` (both of length N + 2).
@@ -78,13 +74,7 @@ impl<'a> SpringSlider<'a> {
         let mut psi_rate = 0.0;
         for (i, s) in m.states.iter().enumerate() {
             let theta = y[1 + i].exp();
-            let g = s.law.rate(&StateArgs {
-                v,
-                theta,
-                dc: s.dc,
-                b: s.b,
-                stress_rate: tau_rate,
-            });
+            let g = s.law.rate(&StateArgs { v, theta, dc: s.dc, b: s.b, stress_rate: tau_rate });
             let zdot = g / theta;
             dy[1 + i] = zdot;
             psi_rate += s.b * zdot;
@@ -103,9 +93,7 @@ impl<'a> SpringSlider<'a> {
         match self.model.form {
             // the classic form does not need Ψ for its derivatives
             crate::FrictionForm::Classic => 0.0,
-            _ => self
-                .model
-                .psi_from_ln_theta(&y[1..=self.model.states.len()]),
+            _ => self.model.psi_from_ln_theta(&y[1..=self.model.states.len()]),
         }
     }
 
@@ -126,13 +114,7 @@ impl<'a> SpringSlider<'a> {
         let mut dpsi_rate_dx = 0.0;
         for (i, s) in m.states.iter().enumerate() {
             let theta = y[1 + i].exp();
-            let j = s.law.jet(&StateArgs {
-                v,
-                theta,
-                dc: s.dc,
-                b: s.b,
-                stress_rate: tau_rate,
-            });
+            let j = s.law.jet(&StateArgs { v, theta, dc: s.dc, b: s.b, stress_rate: tau_rate });
             let zdot = j.rate / theta;
             dy[1 + i] = zdot;
             let dz_dx = (j.d_v * v + j.d_stress_rate * dtau_dx) / theta;
@@ -200,9 +182,7 @@ mod tests {
         let base = |k: f64| Model::new(0.6, 1.0, 0.011, k);
         vec![
             base(0.05).with_state(StateVariable::new(Slip, 0.015, 3.0)),
-            base(0.05)
-                .with_state(StateVariable::new(Aging, 0.015, 3.0))
-                .with_eta(0.3),
+            base(0.05).with_state(StateVariable::new(Aging, 0.015, 3.0)).with_eta(0.3),
             base(0.002)
                 .with_state(StateVariable::new(Slip, 0.008, 3.0))
                 .with_state(StateVariable::new(Aging, 0.006, 40.0))
@@ -211,11 +191,8 @@ mod tests {
                 .with_state(StateVariable::new(Slip, 0.015, 3.0))
                 .with_form(FrictionForm::Regularized)
                 .with_eta(0.01),
-            Model {
-                mu0: 0.05,
-                ..base(0.02).with_state(StateVariable::new(Aging, 0.02, 1.0))
-            }
-            .with_form(FrictionForm::Regularized),
+            Model { mu0: 0.05, ..base(0.02).with_state(StateVariable::new(Aging, 0.02, 1.0)) }
+                .with_form(FrictionForm::Regularized),
             base(f64::INFINITY).with_state(StateVariable::new(Slip, 0.015, 3.0)),
         ]
     }
@@ -235,10 +212,7 @@ mod tests {
                 let mut f2 = vec![0.0; d];
                 sys.rhs(&y, &mut f2);
                 for i in 0..d {
-                    assert!(
-                        (f[i] - f2[i]).abs() <= 1e-14 * f[i].abs().max(1e-300),
-                        "model {mi}: rhs mismatch"
-                    );
+                    assert!((f[i] - f2[i]).abs() <= 1e-14 * f[i].abs().max(1e-300), "model {mi}: rhs mismatch");
                 }
                 for c in 0..d {
                     let h = 1e-6;

@@ -45,12 +45,7 @@ impl StateLaw for Aging {
     }
     /// Hand-derived: ∂G/∂V = −θ/Dc, ∂G/∂θ = −V/Dc (checked against the dual-number default).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
-        Jet {
-            rate: 1.0 - s.v * s.theta / s.dc,
-            d_v: -s.theta / s.dc,
-            d_theta: -s.v / s.dc,
-            d_stress_rate: 0.0,
-        }
+        Jet { rate: 1.0 - s.v * s.theta / s.dc, d_v: -s.theta / s.dc, d_theta: -s.v / s.dc, d_stress_rate: 0.0 }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
         Ok(dc / v)
@@ -121,10 +116,7 @@ impl StateLaw for KatoTullis {
         if self.vc > 0.0 && self.vc.is_finite() {
             Ok(())
         } else {
-            Err(format!(
-                "vc = {} must be positive and finite (µm/s)",
-                self.vc
-            ))
+            Err(format!("vc = {} must be positive and finite (µm/s)", self.vc))
         }
     }
     /// Solves `Ω ln Ω = q`, `q = exp(−V/Vc)`, by Newton from Ω = 1 + q (convex, monotone).
@@ -199,10 +191,7 @@ impl StateLaw for Nagata {
         if self.c >= 0.0 && self.c.is_finite() {
             Ok(())
         } else {
-            Err(format!(
-                "c = {} must be zero or positive and finite",
-                self.c
-            ))
+            Err(format!("c = {} must be zero or positive and finite", self.c))
         }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
@@ -215,12 +204,8 @@ pub const LAW_NAMES: [&str; 5] = ["aging", "slip", "kato-tullis", "prz", "nagata
 
 /// A built-in law by name, with its own parameters looked up by `param` (e.g. `"vc"`).
 /// The error names the missing or unknown item.
-pub fn law_by_name(
-    name: &str,
-    param: impl Fn(&'static str) -> Option<f64>,
-) -> Result<Arc<dyn DynStateLaw>, String> {
-    let need =
-        |p: &'static str| param(p).ok_or_else(|| format!("law `{name}` needs parameter `{p}`"));
+pub fn law_by_name(name: &str, param: impl Fn(&'static str) -> Option<f64>) -> Result<Arc<dyn DynStateLaw>, String> {
+    let need = |p: &'static str| param(p).ok_or_else(|| format!("law `{name}` needs parameter `{p}`"));
     Ok(match name {
         "aging" => Arc::new(Aging),
         "slip" => Arc::new(Slip),
@@ -228,10 +213,7 @@ pub fn law_by_name(
         "prz" => Arc::new(Prz),
         "nagata" => Arc::new(Nagata { c: need("c")? }),
         other => {
-            return Err(format!(
-                "unknown law `{other}`; known laws: {}",
-                LAW_NAMES.join(", ")
-            ));
+            return Err(format!("unknown law `{other}`; known laws: {}", LAW_NAMES.join(", ")));
         }
     })
 }
@@ -265,13 +247,7 @@ mod tests {
     fn jets_match_finite_differences() {
         for law in all() {
             for &(v, theta, sr) in &[(1.0, 3.0, 0.0), (0.01, 500.0, 1e-3), (30.0, 0.05, -0.2)] {
-                let s = StateArgs {
-                    v,
-                    theta,
-                    dc: 10.0,
-                    b: 0.01,
-                    stress_rate: sr,
-                };
+                let s = StateArgs { v, theta, dc: 10.0, b: 0.01, stress_rate: sr };
                 let j = law.jet(&s);
                 assert_relative_eq!(j.rate, law.rate(&s), max_relative = 1e-15);
                 let fd = |f: &dyn Fn(f64) -> StateArgs<f64>, x: f64| {
@@ -280,13 +256,7 @@ mod tests {
                 };
                 let dv = fd(&|x| StateArgs { v: x, ..s }, v);
                 let dt = fd(&|x| StateArgs { theta: x, ..s }, theta);
-                let ds = fd(
-                    &|x| StateArgs {
-                        stress_rate: x,
-                        ..s
-                    },
-                    sr,
-                );
+                let ds = fd(&|x| StateArgs { stress_rate: x, ..s }, sr);
                 assert_relative_eq!(j.d_v, dv, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_theta, dt, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_stress_rate, ds, max_relative = 1e-6, epsilon = 1e-9);
@@ -310,12 +280,9 @@ mod tests {
                 (StateLaw::jet(&Aging, &s), StateLaw::jet(&Auto(Aging), &s)),
                 (StateLaw::jet(&Slip, &s), StateLaw::jet(&Auto(Slip), &s)),
             ] {
-                for (x, y) in [
-                    (h.rate, a.rate),
-                    (h.d_v, a.d_v),
-                    (h.d_theta, a.d_theta),
-                    (h.d_stress_rate, a.d_stress_rate),
-                ] {
+                for (x, y) in
+                    [(h.rate, a.rate), (h.d_v, a.d_v), (h.d_theta, a.d_theta), (h.d_stress_rate, a.d_stress_rate)]
+                {
                     assert_relative_eq!(x, y, max_relative = 1e-14, epsilon = 1e-300);
                 }
             }
@@ -354,16 +321,8 @@ mod tests {
             let law = law_by_name(n, |_| Some(1.0)).unwrap();
             assert_eq!(law.name(), n);
         }
-        assert!(
-            law_by_name("kato-tullis", |_| None)
-                .unwrap_err()
-                .contains("vc")
-        );
-        assert!(
-            law_by_name("dieterich", |_| None)
-                .unwrap_err()
-                .contains("unknown law `dieterich`")
-        );
+        assert!(law_by_name("kato-tullis", |_| None).unwrap_err().contains("vc"));
+        assert!(law_by_name("dieterich", |_| None).unwrap_err().contains("unknown law `dieterich`"));
         assert!(StateLaw::validate(&KatoTullis { vc: -1.0 }).is_err());
     }
 }

@@ -58,10 +58,7 @@ fn model(law: &str) -> Model {
 }
 
 fn problem(law: &str, output: OutputTimes) -> Problem {
-    let segs = protocol()
-        .into_iter()
-        .map(|(v, d)| Segment::for_duration(v, d))
-        .collect();
+    let segs = protocol().into_iter().map(|(v, d)| Segment::for_duration(v, d)).collect();
     let mut p = Problem::new(model(law), Loading::Segments(segs), 3.0, 1.0);
     p.output = output;
     p
@@ -85,30 +82,16 @@ fn timed<I: Integrator>(p: &Problem, alg: &I, repeats: usize) -> (f64, Solution)
 }
 
 fn max_dmu(a: &Solution, b: &Solution) -> f64 {
-    a.mu.iter()
-        .zip(&b.mu)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
+    a.mu.iter().zip(&b.mu).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let repeats = args
-        .iter()
-        .position(|a| a == "--repeats")
-        .map(|i| args[i + 1].parse().unwrap())
-        .unwrap_or(21);
+    let repeats = args.iter().position(|a| a == "--repeats").map(|i| args[i + 1].parse().unwrap()).unwrap_or(21);
     let scipy = !args.iter().any(|a| a == "--no-scipy");
     let segs = protocol();
-    let dec = segs
-        .windows(2)
-        .filter(|w| w[1].0 < w[0].0 && w[1].0 > 0.0 && w[0].0 > 0.0)
-        .count()
-        + 1;
-    let inc = segs
-        .windows(2)
-        .filter(|w| w[1].0 > w[0].0 && w[0].0 > 0.0)
-        .count();
+    let dec = segs.windows(2).filter(|w| w[1].0 < w[0].0 && w[1].0 > 0.0 && w[0].0 > 0.0).count() + 1;
+    let inc = segs.windows(2).filter(|w| w[1].0 > w[0].0 && w[0].0 > 0.0).count();
     let holds = segs.iter().filter(|s| s.0 == 0.0).count();
     let total_t: f64 = segs.iter().map(|s| s.1).sum();
     println!(
@@ -117,9 +100,7 @@ fn main() {
         total_t,
         SLIDE
     );
-    println!(
-        "one core, release build, median of {repeats} solves; output only at segment ends (71 rows)\n"
-    );
+    println!("one core, release build, median of {repeats} solves; output only at segment ends (71 rows)\n");
     println!(
         "| law | integrator | rtol | median wall | per segment | steps (rejected) | RHS evals | Jacobians | max abs Δμ vs tight |"
     );
@@ -178,8 +159,7 @@ fn main() {
     let mut tw = Vec::new();
     for _ in 0..3 {
         let t = Instant::now();
-        sol.write_csv(std::fs::File::create(&path).unwrap())
-            .unwrap();
+        sol.write_csv(std::fs::File::create(&path).unwrap()).unwrap();
         tw.push(t.elapsed().as_secs_f64());
     }
     let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
@@ -199,32 +179,18 @@ fn main() {
     // scipy Radau on the same equations, tolerance and protocol, in the same run
     let json = format!(
         "{{\"model\": {{\"mu0\": 0.6, \"v0\": 1.0, \"a\": 0.013, \"k\": 0.065, \"states\": [{{\"law\": \"slip\", \"b\": 0.016, \"dc\": 2.07}}]}}, \"v_init\": 3.0, \"segments\": [{}], \"rtol\": 1e-8, \"atol\": 1e-11}}",
-        segs.iter()
-            .map(|(v, d)| format!("{{\"v\": {v:?}, \"duration\": {d:?}}}"))
-            .collect::<Vec<_>>()
-            .join(", ")
+        segs.iter().map(|(v, d)| format!("{{\"v\": {v:?}, \"duration\": {d:?}}}")).collect::<Vec<_>>().join(", ")
     );
     let jpath = std::env::temp_dir().join("rsf_bench_protocol.json");
     std::fs::write(&jpath, json).unwrap();
-    let script = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../benches/scipy_protocol.py"
-    );
-    let out = std::process::Command::new("python3")
-        .args([script, jpath.to_str().unwrap(), "--repeats", "3"])
-        .output();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../../benches/scipy_protocol.py");
+    let out = std::process::Command::new("python3").args([script, jpath.to_str().unwrap(), "--repeats", "3"]).output();
     match out {
         Ok(o) if o.status.success() => {
             let text = String::from_utf8_lossy(&o.stdout);
             let field = |k: &str| -> f64 {
                 let i = text.find(&format!("\"{k}\": ")).unwrap() + k.len() + 4;
-                text[i..]
-                    .split([',', '}'])
-                    .next()
-                    .unwrap()
-                    .trim()
-                    .parse()
-                    .unwrap()
+                text[i..].split([',', '}']).next().unwrap().trim().parse().unwrap()
             };
             let (te, ti, mu_rust) = rust_radau_ref.unwrap();
             let ts = field("wall_s_median");
@@ -244,13 +210,9 @@ fn main() {
                 (mu_py - mu_rust).abs()
             );
         }
-        Ok(o) => println!(
-            "\nscipy comparison skipped: {}",
-            String::from_utf8_lossy(&o.stderr)
-                .lines()
-                .last()
-                .unwrap_or("")
-        ),
+        Ok(o) => {
+            println!("\nscipy comparison skipped: {}", String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or(""))
+        }
         Err(e) => println!("\nscipy comparison skipped: python3 not runnable ({e})"),
     }
 }

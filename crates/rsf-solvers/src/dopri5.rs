@@ -9,8 +9,7 @@
 //! Wanner, Solving ODEs I, 2nd ed., II.5–II.6 (code DOPRI5).
 
 use crate::ode::{
-    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min,
-    initial_step,
+    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min, initial_step,
 };
 use nalgebra::SVector;
 
@@ -27,10 +26,7 @@ pub struct Dopri5 {
 impl Dopri5 {
     /// With relative and absolute tolerances.
     pub fn new(rtol: f64, atol: f64) -> Self {
-        Self {
-            tol: Tolerances { rtol, atol },
-            max_steps: 2_000_000,
-        }
+        Self { tol: Tolerances { rtol, atol }, max_steps: 2_000_000 }
     }
 }
 
@@ -96,11 +92,7 @@ impl Integrator for Dopri5 {
         let mut k1 = sys.rhs(&y);
         stats.rhs_evals += 1;
         let span = t1 - t0;
-        let mut h = if h0 > 0.0 {
-            h0.min(span)
-        } else {
-            initial_step(sys, &y, &k1, span, 5, tol, stats)
-        };
+        let mut h = if h0 > 0.0 { h0.min(span) } else { initial_step(sys, &y, &k1, span, 5, tol, stats) };
         let mut next_out = 0;
         let mut reject = false;
         let mut steps = 0u64;
@@ -170,11 +162,7 @@ impl Integrator for Dopri5 {
                 h = h_new;
             } else {
                 stats.rejected += 1;
-                let shrink = if err.is_finite() {
-                    (fac11 / safe).min(facc1)
-                } else {
-                    10.0
-                };
+                let shrink = if err.is_finite() { (fac11 / safe).min(facc1) } else { 10.0 };
                 h /= shrink;
                 reject = true;
             }

@@ -172,11 +172,7 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
         dnf += (f0[i] / sk).powi(2);
         dny += (y0[i] / sk).powi(2);
     }
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-        1e-6
-    } else {
-        (dny / dnf).sqrt() * 0.01
-    };
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
     // ‖y0‖ means nothing for log variables (ln V = 0 at V = 1 µm/s): keep the first guess
     // from collapsing to round-off so that the curvature estimate below can set the step.
     h = h.max(1e-9 * span).max(1e3 * h_min(0.0)).min(span);
@@ -190,11 +186,7 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
     }
     let der2 = der2.sqrt() / h;
     let der12 = der2.max(dnf.sqrt());
-    let h1 = if der12 <= 1e-15 {
-        (h * 1e-3).max(1e-6)
-    } else {
-        (0.01 / der12).powf(1.0 / (order as f64 + 1.0))
-    };
+    let h1 = if der12 <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / (order as f64 + 1.0)) };
     (100.0 * h).min(h1).min(span)
 }
 
@@ -216,12 +208,7 @@ mod tests {
     }
     impl OdeSystem<4> for Osc {
         fn rhs(&self, y: &SVector<f64, 4>) -> SVector<f64, 4> {
-            SVector::<f64, 4>::new(
-                y[1],
-                -y[0],
-                -self.lambda * (y[2] - y[3].cos()) - y[3].sin(),
-                1.0,
-            )
+            SVector::<f64, 4>::new(y[1], -y[0], -self.lambda * (y[2] - y[3].cos()) - y[3].sin(), 1.0)
         }
         fn rhs_and_jacobian(&self, y: &SVector<f64, 4>) -> (SVector<f64, 4>, SMatrix<f64, 4, 4>) {
             let mut j = SMatrix::<f64, 4, 4>::zeros();
@@ -266,20 +253,14 @@ mod tests {
             for rtol in [1e-5, 1e-7, 1e-9] {
                 let (e_d, d_d, s_d) = run(&Dopri5::new(rtol, rtol), lambda, &t_out);
                 let (e_r, d_r, s_r) = run(&Rodas4::new(rtol, rtol), lambda, &t_out);
-                assert!(
-                    e_d < 200.0 * rtol && e_r < 200.0 * rtol,
-                    "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}"
-                );
+                assert!(e_d < 200.0 * rtol && e_r < 200.0 * rtol, "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}");
                 assert!(
                     d_d < 500.0 * rtol && d_r < 500.0 * rtol,
                     "λ={lambda} rtol={rtol}: dense errors {d_d:e} {d_r:e}"
                 );
                 assert!(e_r < prev, "error must fall with tolerance");
                 prev = e_r;
-                println!(
-                    "λ={lambda:e} rtol={rtol:e}: dopri5 {} steps, rodas4 {} steps",
-                    s_d.accepted, s_r.accepted
-                );
+                println!("λ={lambda:e} rtol={rtol:e}: dopri5 {} steps, rodas4 {} steps", s_d.accepted, s_r.accepted);
                 if lambda > 1e3 {
                     // stiff: the implicit method needs far fewer steps than the explicit one
                     assert!(
@@ -304,19 +285,7 @@ mod tests {
             let mut stats = StepStats::default();
             for i in 0..n {
                 let t0 = i as f64 * h;
-                y = alg
-                    .integrate(
-                        &Osc { lambda: 1.0 },
-                        t0,
-                        y,
-                        t0 + h,
-                        h,
-                        &[],
-                        &mut |_, _| {},
-                        &mut stats,
-                    )
-                    .unwrap()
-                    .y;
+                y = alg.integrate(&Osc { lambda: 1.0 }, t0, y, t0 + h, h, &[], &mut |_, _| {}, &mut stats).unwrap().y;
             }
             (y - exact(2.0)).amax()
         }

@@ -44,6 +44,9 @@ pub struct Protocol {
     pub problem: Problem,
     /// The integrator selected in `[solver]`.
     pub method: Method,
+    /// Measured friction at the record's times, when `[loading] friction_column` names one
+    /// (for plots and misfit summaries; the forward model does not use it).
+    pub measured_friction: Option<Vec<f64>>,
 }
 
 /// A protocol error, naming file, line and field where known.
@@ -115,6 +118,7 @@ struct RawLoading {
     record: Option<S<String>>,
     time_column: Option<String>,
     load_point_column: Option<String>,
+    friction_column: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -162,16 +166,11 @@ pub fn load(path: &Path) -> Result<Protocol, ProtocolError> {
 /// Parses protocol text. `base` resolves a relative `record` path; `file` names the source
 /// in messages.
 pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, ProtocolError> {
-    let line_of =
-        |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
+    let line_of = |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
     let err = |span: Option<&Range<usize>>, field: &str, message: String| ProtocolError {
         file: file.to_string(),
         line: span.and_then(line_of),
-        field: if field.is_empty() {
-            None
-        } else {
-            Some(field.to_string())
-        },
+        field: if field.is_empty() { None } else { Some(field.to_string()) },
         message,
     };
     let raw: RawFile = toml::from_str(text).map_err(|e| {
@@ -186,12 +185,8 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         spans.insert(k.to_string(), s.span());
         *s.get_ref()
     };
-    let mut model = Model::new(
-        put("mu0", &rm.mu0),
-        put("v0", &rm.v0),
-        put("a", &rm.a),
-        put("stiffness", &rm.stiffness),
-    );
+    let mut model =
+        Model::new(put("mu0", &rm.mu0), put("v0", &rm.v0), put("a", &rm.a), put("stiffness", &rm.stiffness));
     if let Some(eta) = &rm.eta {
         model.eta = put("eta", eta);
     }
@@ -249,22 +244,14 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         spans.insert(format!("state[{}].b", i + 1), s.b.span());
         spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
         state_spans.push(st.span());
-        model.states.push(StateVariable::from_shared(
-            law,
-            *s.b.get_ref(),
-            *s.dc.get_ref(),
-        ));
+        model.states.push(StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref()));
     }
     if let Err(e) = model.validate() {
         return Err(match &e {
-            ModelError::Parameter { name, .. } => {
-                err(spans.get(name), &format!("model.{name}"), e.to_string())
+            ModelError::Parameter { name, .. } => err(spans.get(name), &format!("model.{name}"), e.to_string()),
+            ModelError::Law { index, .. } => {
+                err(state_spans.get(index - 1), &format!("model.state[{index}]"), e.to_string())
             }
-            ModelError::Law { index, .. } => err(
-                state_spans.get(index - 1),
-                &format!("model.state[{index}]"),
-                e.to_string(),
-            ),
             ModelError::NoState => err(None, "model.state", e.to_string()),
         });
     }
@@ -279,6 +266,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             format!("{v_init} must be positive and finite (µm/s)"),
         ));
     }
+    let mut measured_friction = None;
     let (loading, is_record) = match (&rl.segment, &rl.record) {
         (Some(_), Some(r)) => {
             return Err(err(
@@ -317,16 +305,11 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                         ));
                     }
                 };
-                end.duration()
-                    .map_err(|m| err(Some(&sg.span()), &field, m))?;
+                end.duration().map_err(|m| err(Some(&sg.span()), &field, m))?;
                 out.push(end);
             }
             if out.is_empty() {
-                return Err(err(
-                    Some(&raw.loading.span()),
-                    "loading.segment",
-                    "the protocol has no segments".into(),
-                ));
+                return Err(err(Some(&raw.loading.span()), "loading.segment", "the protocol has no segments".into()));
             }
             (Loading::Segments(out), false)
         }
@@ -338,8 +321,9 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             };
             let tcol = rl.time_column.as_deref().unwrap_or("time_s");
             let lcol = rl.load_point_column.as_deref().unwrap_or("load_point_um");
-            let rec = read_load_record(&path, tcol, lcol)
+            let (rec, mu) = read_load_record(&path, tcol, lcol, rl.friction_column.as_deref())
                 .map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            measured_friction = mu;
             (Loading::Record(rec), true)
         }
     };
@@ -350,28 +334,19 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         Some(dt) => {
             let v = *dt.get_ref();
             if !(v > 0.0 && v.is_finite()) {
-                return Err(err(
-                    Some(&dt.span()),
-                    "output.dt",
-                    format!("{v} must be positive and finite (s)"),
-                ));
+                return Err(err(Some(&dt.span()), "output.dt", format!("{v} must be positive and finite (s)")));
             }
             OutputTimes::Every(v)
         }
         None if is_record => OutputTimes::PieceEnds,
         None => {
             let span = raw.output.as_ref().map(|o| o.span());
-            return Err(err(
-                span.as_ref(),
-                "output.dt",
-                "required: the output sampling interval in s".into(),
-            ));
+            return Err(err(span.as_ref(), "output.dt", "required: the output sampling interval in s".into()));
         }
     };
 
     // ---- solver
-    let (mut method_name, mut rtol, mut atol, mut vmax) =
-        (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
+    let (mut method_name, mut rtol, mut atol, mut vmax) = (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
     let mut method_span = None;
     if let Some(s) = &raw.solver {
         if let Some(m) = &s.method {
@@ -381,21 +356,13 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         if let Some(r) = &s.rtol {
             rtol = *r.get_ref();
             if !(rtol > 0.0 && rtol < 1.0) {
-                return Err(err(
-                    Some(&r.span()),
-                    "solver.rtol",
-                    format!("{rtol} must be in (0, 1)"),
-                ));
+                return Err(err(Some(&r.span()), "solver.rtol", format!("{rtol} must be in (0, 1)")));
             }
         }
         if let Some(a) = &s.atol {
             atol = *a.get_ref();
             if !(atol >= 0.0 && atol.is_finite()) {
-                return Err(err(
-                    Some(&a.span()),
-                    "solver.atol",
-                    format!("{atol} must be zero or positive"),
-                ));
+                return Err(err(Some(&a.span()), "solver.atol", format!("{atol} must be zero or positive")));
             }
         }
         if let Some(v) = &s.max_slip_rate {
@@ -416,52 +383,42 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             format!("unknown method `{method_name}`; use \"implicit\" or \"explicit\""),
         )
     })?;
-    let problem = Problem {
-        model,
-        loading,
-        v_init,
-        output,
-        max_slip_rate: vmax,
-    };
-    Ok(Protocol { problem, method })
+    let problem = Problem { model, loading, v_init, output, max_slip_rate: vmax };
+    Ok(Protocol { problem, method, measured_friction })
 }
 
-/// Reads a load-point record: a CSV with a header naming `time_col` (s) and `lp_col` (µm).
-/// Lines starting with `#` are skipped. Errors name the line and column.
-pub fn read_load_record(path: &Path, time_col: &str, lp_col: &str) -> Result<LoadRecord, String> {
+/// Reads a load-point record: a delimited text file (comma- or tab-separated, detected from
+/// the header) whose header names `time_col` (s) and `lp_col` (µm), and optionally a friction
+/// column. Lines starting with `#` are skipped. Errors name the line and column.
+pub fn read_load_record(
+    path: &Path,
+    time_col: &str,
+    lp_col: &str,
+    mu_col: Option<&str>,
+) -> Result<(LoadRecord, Option<Vec<f64>>), String> {
     let name = path.display();
     let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
     let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let delim = if header.contains('\t') { '\t' } else { ',' };
+    let cols: Vec<&str> = header.split(delim).map(str::trim).collect();
     let find = |c: &str| {
         cols.iter()
             .position(|h| *h == c)
             .ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
     };
     let (ti, li) = (find(time_col)?, find(lp_col)?);
-    let mut rec = LoadRecord {
-        time: Vec::new(),
-        load_point: Vec::new(),
-    };
+    let mi = mu_col.map(find).transpose()?;
+    let mut rec = LoadRecord { time: Vec::new(), load_point: Vec::new() };
+    let mut mu = Vec::new();
     for (ln, line) in lines {
-        let cells: Vec<&str> = line.split(',').collect();
+        let cells: Vec<&str> = line.split(delim).collect();
         let get = |i: usize, c: &str| -> Result<f64, String> {
-            let cell = cells
-                .get(i)
-                .ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?
-                .trim();
-            let v: f64 = cell.parse().map_err(|_| {
-                format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1)
-            })?;
+            let cell = cells.get(i).ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?.trim();
+            let v: f64 =
+                cell.parse().map_err(|_| format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1))?;
             if !v.is_finite() {
-                return Err(format!(
-                    "{name}:{}: column `{c}`: {v} is not finite",
-                    ln + 1
-                ));
+                return Err(format!("{name}:{}: column `{c}`: {v} is not finite", ln + 1));
             }
             Ok(v)
         };
@@ -476,7 +433,10 @@ pub fn read_load_record(path: &Path, time_col: &str, lp_col: &str) -> Result<Loa
         }
         rec.time.push(t);
         rec.load_point.push(get(li, lp_col)?);
+        if let (Some(i), Some(c)) = (mi, mu_col) {
+            mu.push(get(i, c)?);
+        }
     }
     rec.validate().map_err(|m| format!("{name}: {m}"))?;
-    Ok(rec)
+    Ok((rec, mi.map(|_| mu)))
 }

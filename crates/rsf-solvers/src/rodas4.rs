@@ -11,8 +11,7 @@
 //! increment form `(I/(hγ) − J) k_i = f(y + Σ a_ij k_j) + Σ (c_ij/h) k_j`.
 
 use crate::ode::{
-    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min,
-    initial_step,
+    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min, initial_step,
 };
 use nalgebra::{SMatrix, SVector};
 
@@ -29,10 +28,7 @@ pub struct Rodas4 {
 impl Rodas4 {
     /// With relative and absolute tolerances.
     pub fn new(rtol: f64, atol: f64) -> Self {
-        Self {
-            tol: Tolerances { rtol, atol },
-            max_steps: 2_000_000,
-        }
+        Self { tol: Tolerances { rtol, atol }, max_steps: 2_000_000 }
     }
 }
 
@@ -192,15 +188,11 @@ impl Integrator for Rodas4 {
             let k1 = lu.solve(f0);
             let k2 = lu.solve(sys.rhs(&(y + k1 * A21)) + k1 * (C21 * ih));
             let k3 = lu.solve(sys.rhs(&(y + k1 * A31 + k2 * A32)) + (k1 * C31 + k2 * C32) * ih);
-            let k4 = lu.solve(
-                sys.rhs(&(y + k1 * A41 + k2 * A42 + k3 * A43))
-                    + (k1 * C41 + k2 * C42 + k3 * C43) * ih,
-            );
+            let k4 = lu.solve(sys.rhs(&(y + k1 * A41 + k2 * A42 + k3 * A43)) + (k1 * C41 + k2 * C42 + k3 * C43) * ih);
             let y5 = y + k1 * A51 + k2 * A52 + k3 * A53 + k4 * A54;
             let k5 = lu.solve(sys.rhs(&y5) + (k1 * C51 + k2 * C52 + k3 * C53 + k4 * C54) * ih);
             let y6 = y5 + k5;
-            let k6 = lu
-                .solve(sys.rhs(&y6) + (k1 * C61 + k2 * C62 + k3 * C63 + k4 * C64 + k5 * C65) * ih);
+            let k6 = lu.solve(sys.rhs(&y6) + (k1 * C61 + k2 * C62 + k3 * C63 + k4 * C64 + k5 * C65) * ih);
             stats.rhs_evals += 5;
             let y1 = y6 + k6;
             let err = error_norm(sys, &k6, &y, &y1, tol);

@@ -40,13 +40,7 @@ pub struct Problem {
 impl Problem {
     /// A problem sampled every `dt` seconds.
     pub fn new(model: Model, loading: Loading, v_init: f64, dt: f64) -> Self {
-        Self {
-            model,
-            loading,
-            v_init,
-            output: OutputTimes::Every(dt),
-            max_slip_rate: 1e9,
-        }
+        Self { model, loading, v_init, output: OutputTimes::Every(dt), max_slip_rate: 1e9 }
     }
 }
 
@@ -149,16 +143,10 @@ impl Solution {
         };
         for r in 0..self.len() {
             line.clear();
-            for (j, x) in [
-                self.time[r],
-                self.load_point[r],
-                self.mu[r],
-                self.slip_rate[r],
-                self.slip[r],
-            ]
-            .into_iter()
-            .chain(self.theta.iter().map(|t| t[r]))
-            .enumerate()
+            for (j, x) in [self.time[r], self.load_point[r], self.mu[r], self.slip_rate[r], self.slip[r]]
+                .into_iter()
+                .chain(self.theta.iter().map(|t| t[r]))
+                .enumerate()
             {
                 if j > 0 {
                     line.push(b',');
@@ -188,30 +176,18 @@ impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
     fn rhs_and_jacobian(&self, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
         let mut dy = SVector::<f64, D>::zeros();
         let mut j = SMatrix::<f64, D, D>::zeros();
-        self.sys
-            .jacobian(y.as_slice(), dy.as_mut_slice(), j.as_mut_slice());
+        self.sys.jacobian(y.as_slice(), dy.as_mut_slice(), j.as_mut_slice());
         (dy, j)
     }
     /// ln V and ln θ are controlled absolutely (an error ε is a relative error ε in V or θ)
     /// to `atol + rtol`; slip relatively to `atol + rtol |δ|`.
     #[inline]
     fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
-        if i + 1 < D {
-            tol.rtol + tol.atol
-        } else {
-            tol.atol + tol.rtol * y0.abs().max(y1.abs())
-        }
+        if i + 1 < D { tol.rtol + tol.atol } else { tol.atol + tol.rtol * y0.abs().max(y1.abs()) }
     }
     #[inline]
     fn check(&self, y: &SVector<f64, D>) -> Result<(), String> {
-        if y[0] > self.ln_v_max {
-            Err(format!(
-                "slip rate {:.3e} µm/s exceeds the limit",
-                y[0].exp()
-            ))
-        } else {
-            Ok(())
-        }
+        if y[0] > self.ln_v_max { Err(format!("slip rate {:.3e} µm/s exceeds the limit", y[0].exp())) } else { Ok(()) }
     }
 }
 
@@ -253,9 +229,7 @@ fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveEr
     match &problem.output {
         OutputTimes::Every(dt) => {
             if !(*dt > 0.0 && dt.is_finite()) {
-                return Err(SolveError::Input(format!(
-                    "output dt = {dt} must be positive and finite"
-                )));
+                return Err(SolveError::Input(format!("output dt = {dt} must be positive and finite")));
             }
             let span = t_end - t0;
             let count = (span / dt * (1.0 + 1e-12)).floor() as usize;
@@ -284,11 +258,7 @@ fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveEr
         OutputTimes::Times(ts) => {
             for (i, w) in ts.windows(2).enumerate() {
                 if !(w[1] > w[0]) {
-                    return Err(SolveError::Input(format!(
-                        "output time {} ({} s) does not increase",
-                        i + 1,
-                        w[1]
-                    )));
+                    return Err(SolveError::Input(format!("output time {} ({} s) does not increase", i + 1, w[1])));
                 }
             }
             if let (Some(&a), Some(&b)) = (ts.first(), ts.last()) {
@@ -303,29 +273,18 @@ fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveEr
     }
 }
 
-fn solve_dim<const D: usize, I: Integrator>(
-    problem: &Problem,
-    alg: &I,
-) -> Result<Solution, SolveError> {
+fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
     let model = &problem.model;
     model.validate()?;
     let tol = alg.tolerances();
-    if !(tol.rtol > 0.0
-        && tol.rtol < 1.0
-        && tol.atol >= 0.0
-        && tol.rtol.is_finite()
-        && tol.atol.is_finite())
-    {
+    if !(tol.rtol > 0.0 && tol.rtol < 1.0 && tol.atol >= 0.0 && tol.rtol.is_finite() && tol.atol.is_finite()) {
         return Err(SolveError::Input(format!(
             "tolerances rtol = {}, atol = {} must satisfy 0 < rtol < 1 and atol >= 0",
             tol.rtol, tol.atol
         )));
     }
     if !(problem.v_init > 0.0 && problem.v_init.is_finite()) {
-        return Err(SolveError::Input(format!(
-            "v_init = {} must be positive and finite (µm/s)",
-            problem.v_init
-        )));
+        return Err(SolveError::Input(format!("v_init = {} must be positive and finite (µm/s)", problem.v_init)));
     }
     let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
     let t_out = output_times(problem, &pieces)?;
@@ -339,12 +298,7 @@ fn solve_dim<const D: usize, I: Integrator>(
         }
         let y = SpringSlider::steady_state(model, problem.v_init)?;
         for (i, s) in model.states.iter().enumerate() {
-            let j = s.law.jet(&rsf_core::StateArgs::new(
-                problem.v_init,
-                y[1 + i].exp(),
-                s.dc,
-                s.b,
-            ));
+            let j = s.law.jet(&rsf_core::StateArgs::new(problem.v_init, y[1 + i].exp(), s.dc, s.b));
             if j.d_stress_rate != 0.0 {
                 return Err(SolveError::Input(format!(
                     "state {} ({}) depends on the stress rate, which is undefined with infinite stiffness",
@@ -378,17 +332,16 @@ fn solve_dim<const D: usize, I: Integrator>(
     let mut y = SVector::<f64, D>::from_column_slice(&y_init);
     let ln_v_max = problem.max_slip_rate.ln();
 
-    let record =
-        |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
-            sol.time.push(t);
-            sol.load_point.push(piece.load_point(t));
-            sol.mu.push(sys.stress(y.as_slice()));
-            sol.slip_rate.push(y[0].exp());
-            sol.slip.push(y[D - 1]);
-            for i in 0..n {
-                sol.theta[i].push(y[1 + i].exp());
-            }
-        };
+    let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
+        sol.time.push(t);
+        sol.load_point.push(piece.load_point(t));
+        sol.mu.push(sys.stress(y.as_slice()));
+        sol.slip_rate.push(y[0].exp());
+        sol.slip.push(y[D - 1]);
+        for i in 0..n {
+            sol.theta[i].push(y[1 + i].exp());
+        }
+    };
 
     let mut oi = 0; // next output index
     let mut h = 0.0;
@@ -437,32 +390,22 @@ fn solve_dim<const D: usize, I: Integrator>(
                 };
                 let blew_up = matches!(e, IntegrationError::Stopped { .. })
                     || (matches!(e, IntegrationError::StepSizeUnderflow { .. })
-                        && rows
-                            .last()
-                            .map(|(_, yy)| yy[0] > y[0] + 2.0)
-                            .unwrap_or(true));
+                        && rows.last().map(|(_, yy)| yy[0] > y[0] + 2.0).unwrap_or(true));
                 if blew_up && !model.imposed_velocity() {
                     let yy = rows.last().map(|r| r.1).unwrap_or(y);
                     return Err(SolveError::BlowUp {
                         t: t_fail,
-                        v: yy[0]
-                            .exp()
-                            .max(if matches!(e, IntegrationError::Stopped { .. }) {
-                                problem.max_slip_rate
-                            } else {
-                                0.0
-                            }),
+                        v: yy[0].exp().max(if matches!(e, IntegrationError::Stopped { .. }) {
+                            problem.max_slip_rate
+                        } else {
+                            0.0
+                        }),
                         mu: sys.stress(yy.as_slice()),
                         k: model.stiffness,
                         kc: model.critical_stiffness_estimate(),
                     });
                 }
-                return Err(SolveError::Integration {
-                    piece: pi + 1,
-                    v_lp: piece.v,
-                    v: v_start,
-                    source: e,
-                });
+                return Err(SolveError::Integration { piece: pi + 1, v_lp: piece.v, v: v_start, source: e });
             }
         }
     }

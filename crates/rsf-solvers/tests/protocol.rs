@@ -33,9 +33,7 @@ atol = 1e-12
 fn bad(from: &str, to: &str, needles: &[&str]) {
     assert_eq!(GOOD.matches(from).count(), 1, "fixture: `{from}`");
     let text = GOOD.replace(from, to);
-    let e = parse(&text, None, "p.toml")
-        .err()
-        .unwrap_or_else(|| panic!("`{to}` was accepted"));
+    let e = parse(&text, None, "p.toml").err().unwrap_or_else(|| panic!("`{to}` was accepted"));
     let msg = e.to_string();
     for n in needles {
         assert!(msg.contains(n), "message `{msg}` lacks `{n}`");
@@ -56,122 +54,49 @@ fn errors_name_field_and_line() {
     bad(
         "law = \"slip\"",
         "law = \"dieterich\"",
-        &[
-            "p.toml:8",
-            "model.state[1].law",
-            "unknown law `dieterich`",
-            "aging",
-        ],
+        &["p.toml:8", "model.state[1].law", "unknown law `dieterich`", "aging"],
     );
-    bad(
-        "dc = 2.07",
-        "dc = -2.07",
-        &["p.toml:10", "model.state[1].dc", "positive"],
-    );
-    bad(
-        "stiffness = 0.065",
-        "stiffness = -0.065",
-        &["p.toml:5", "model.stiffness", "positive"],
-    );
+    bad("dc = 2.07", "dc = -2.07", &["p.toml:10", "model.state[1].dc", "positive"]);
+    bad("stiffness = 0.065", "stiffness = -0.065", &["p.toml:5", "model.stiffness", "positive"]);
     bad("a = 0.013", "a = nan", &["p.toml:4", "model.a"]);
     bad("dc = 2.07\n", "", &["p.toml", "missing field `dc`"]);
-    bad(
-        "duration = 500.0",
-        "duration = 500.0\ndisplacement = 3.0",
-        &["p.toml:18", "loading.segment[1]", "not both"],
-    );
-    bad(
-        "v = 0.003\nduration = 500.0",
-        "v = 0.0\ndisplacement = 3.0",
-        &["p.toml:15", "loading.segment[1]", "hold"],
-    );
-    bad(
-        "v = 0.003\nduration = 500.0",
-        "v = 0.003",
-        &["p.toml:15", "loading.segment[1]", "duration"],
-    );
-    bad(
-        "duration = 500.0",
-        "duration = -1.0",
-        &["p.toml:15", "duration"],
-    );
-    bad(
-        "b = 0.016",
-        "b = 0.016\nvc = 1e-3",
-        &["p.toml:10", "model.state[1].vc", "does not apply"],
-    );
-    bad(
-        "law = \"slip\"",
-        "law = \"kato-tullis\"",
-        &["p.toml:8", "needs parameter `vc`"],
-    );
-    bad(
-        "law = \"slip\"",
-        "law = \"kato-tullis\"\nvc = -1.0",
-        &["p.toml:7", "model.state[1]", "vc"],
-    );
+    bad("duration = 500.0", "duration = 500.0\ndisplacement = 3.0", &["p.toml:18", "loading.segment[1]", "not both"]);
+    bad("v = 0.003\nduration = 500.0", "v = 0.0\ndisplacement = 3.0", &["p.toml:15", "loading.segment[1]", "hold"]);
+    bad("v = 0.003\nduration = 500.0", "v = 0.003", &["p.toml:15", "loading.segment[1]", "duration"]);
+    bad("duration = 500.0", "duration = -1.0", &["p.toml:15", "duration"]);
+    bad("b = 0.016", "b = 0.016\nvc = 1e-3", &["p.toml:10", "model.state[1].vc", "does not apply"]);
+    bad("law = \"slip\"", "law = \"kato-tullis\"", &["p.toml:8", "needs parameter `vc`"]);
+    bad("law = \"slip\"", "law = \"kato-tullis\"\nvc = -1.0", &["p.toml:7", "model.state[1]", "vc"]);
     bad(
         "law = \"slip\"\nb = 0.016",
         "law = \"nagata\"\nc = 2.0\nb = 0.0",
         &["p.toml:10", "model.state[1].b", "divides by b"],
     );
-    bad(
-        "method = \"implicit\"",
-        "method = \"rk4\"",
-        &["p.toml:23", "solver.method", "rk4"],
-    );
+    bad("method = \"implicit\"", "method = \"rk4\"", &["p.toml:23", "solver.method", "rk4"]);
     bad("rtol = 1e-9", "rtol = 2.0", &["p.toml:24", "solver.rtol"]);
     bad("dt = 0.02", "dt = 0.0", &["p.toml:20", "output.dt"]);
-    bad(
-        "v_init = 3.0",
-        "v_init = 0.0",
-        &["p.toml:13", "loading.v_init"],
-    );
-    bad(
-        "mu0 = 0.65",
-        "mu0 = 0.65\nmuu = 1",
-        &["p.toml:3", "unknown field `muu`"],
-    );
+    bad("v_init = 3.0", "v_init = 0.0", &["p.toml:13", "loading.v_init"]);
+    bad("mu0 = 0.65", "mu0 = 0.65\nmuu = 1", &["p.toml:3", "unknown field `muu`"]);
     bad("[output]\ndt = 0.02\n", "", &["output.dt", "required"]);
-    bad(
-        "v = 0.003\nduration = 500.0",
-        "v = 0.003\nduration = 500.0\n[loading.x]",
-        &["p.toml"],
-    );
+    bad("v = 0.003\nduration = 500.0", "v = 0.003\nduration = 500.0\n[loading.x]", &["p.toml"]);
     bad(
         "[[loading.segment]]\nv = 0.003\nduration = 500.0\n",
         "record = \"/nonexistent/run.csv\"\n",
         &["loading.record", "cannot read"],
     );
-    bad(
-        "mu0 = 0.65",
-        "mu0 = \"high\"",
-        &["p.toml:2", "invalid type"],
-    );
+    bad("mu0 = 0.65", "mu0 = \"high\"", &["p.toml:2", "invalid type"]);
 }
 
 #[test]
 fn record_errors_name_line_and_column() {
     let dir = std::env::temp_dir().join(format!("rsf-proto-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let proto = GOOD.replace(
-        "[[loading.segment]]\nv = 0.003\nduration = 500.0\n",
-        "record = \"run.csv\"\n",
-    );
+    let proto = GOOD.replace("[[loading.segment]]\nv = 0.003\nduration = 500.0\n", "record = \"run.csv\"\n");
     for (csv, needles) in [
-        (
-            "time_s,load_point_um\n0,0\n1,x\n",
-            vec!["run.csv:3", "`load_point_um`", "`x` is not a number"],
-        ),
-        (
-            "time_s,load_point_um\n0,0\n0,1\n",
-            vec!["run.csv:3", "does not increase"],
-        ),
+        ("time_s,load_point_um\n0,0\n1,x\n", vec!["run.csv:3", "`load_point_um`", "`x` is not a number"]),
+        ("time_s,load_point_um\n0,0\n0,1\n", vec!["run.csv:3", "does not increase"]),
         ("time_s,lp\n0,0\n1,1\n", vec!["no column `load_point_um`"]),
-        (
-            "time_s,load_point_um\n0,0\n1,nan\n",
-            vec!["run.csv:3", "not finite"],
-        ),
+        ("time_s,load_point_um\n0,0\n1,nan\n", vec!["run.csv:3", "not finite"]),
         ("time_s,load_point_um\n0,0\n", vec!["at least two samples"]),
     ] {
         std::fs::write(dir.join("run.csv"), csv).unwrap();
@@ -181,22 +106,10 @@ fn record_errors_name_line_and_column() {
         }
     }
     // a good record, with a comment line, drives the model; output at the record's times
-    std::fs::write(
-        dir.join("run.csv"),
-        "# lab run\ntime_s,load_point_um\n10,0\n20,30\n30,30\n40,31\n",
-    )
-    .unwrap();
-    let p = parse(
-        &proto.replace("[output]\ndt = 0.02\n", ""),
-        Some(&dir),
-        "p.toml",
-    )
-    .unwrap();
+    std::fs::write(dir.join("run.csv"), "# lab run\ntime_s,load_point_um\n10,0\n20,30\n30,30\n40,31\n").unwrap();
+    let p = parse(&proto.replace("[output]\ndt = 0.02\n", ""), Some(&dir), "p.toml").unwrap();
     let sol = p.method.solve(&p.problem).unwrap();
     assert_eq!(sol.time, vec![10.0, 20.0, 30.0, 40.0]);
     assert_eq!(sol.load_point, vec![0.0, 30.0, 30.0, 31.0]);
-    assert!(
-        sol.slip_rate[2] < 0.1,
-        "the hold between 20 and 30 s relaxes V"
-    );
+    assert!(sol.slip_rate[2] < 0.1, "the hold between 20 and 30 s relaxes V");
 }
