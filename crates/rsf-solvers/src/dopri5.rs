@@ -9,7 +9,8 @@
 //! Wanner, Solving ODEs I, 2nd ed., II.5–II.6 (code DOPRI5).
 
 use crate::ode::{
-    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min, initial_step,
+    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, clip_step, emit_dense, error_norm,
+    initial_step,
 };
 use nalgebra::SVector;
 
@@ -101,13 +102,8 @@ impl Integrator for Dopri5 {
                 return Err(IntegrationError::TooManySteps { t, steps });
             }
             steps += 1;
-            let last = t + h >= t1 - 1e-12 * span.max(h);
-            if last {
-                h = t1 - t;
-            }
-            if h < h_min(t) {
-                return Err(IntegrationError::StepSizeUnderflow { t, h });
-            }
+            let (h_step, last) = clip_step(t, h, t1, span)?;
+            h = h_step;
             let k2 = sys.rhs(&(y + k1 * (h * A21)));
             let k3 = sys.rhs(&(y + (k1 * A31 + k2 * A32) * h));
             let k4 = sys.rhs(&(y + (k1 * A41 + k2 * A42 + k3 * A43) * h));
@@ -127,25 +123,18 @@ impl Integrator for Dopri5 {
                 }
                 stats.accepted += 1;
                 let t_new = if last { t1 } else { t + h };
-                // dense output on (t, t_new]
-                if next_out < t_out.len() && t_out[next_out] <= t_new {
-                    let ydiff = y1 - y;
+                let yc = y;
+                let dense = || {
+                    let ydiff = y1 - yc;
                     let bspl = k1 * h - ydiff;
                     let r4 = ydiff - k7 * h - bspl;
                     let r5 = (k1 * D1 + k3 * D3 + k4 * D4 + k5 * D5 + k6 * D6 + k7 * D7) * h;
-                    while next_out < t_out.len() && t_out[next_out] <= t_new {
-                        let to = t_out[next_out];
-                        if to == t_new {
-                            out(to, &y1);
-                        } else {
-                            let s = (to - t) / h;
-                            let s1 = 1.0 - s;
-                            let yo = y + (ydiff + (bspl + (r4 + r5 * s1) * s) * s1) * s;
-                            out(to, &yo);
-                        }
-                        next_out += 1;
+                    move |s: f64| {
+                        let s1 = 1.0 - s;
+                        yc + (ydiff + (bspl + (r4 + r5 * s1) * s) * s1) * s
                     }
-                }
+                };
+                emit_dense(t_out, &mut next_out, (t, h, t_new), &y1, dense, out);
                 let fac = (fac11 / facold.powf(beta) / safe).clamp(facc2, facc1);
                 facold = err.max(1e-4);
                 let mut h_new = h / fac;

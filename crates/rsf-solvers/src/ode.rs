@@ -190,6 +190,45 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
     (100.0 * h).min(h1).min(span)
 }
 
+/// Clips a proposed step `h` at time `t` so that the integration lands exactly on `t1`;
+/// returns the step and whether it is the last one, or an underflow error.
+#[inline]
+pub(crate) fn clip_step(t: f64, h: f64, t1: f64, span: f64) -> Result<(f64, bool), IntegrationError> {
+    let last = t + h >= t1 - 1e-12 * span.max(h);
+    let h = if last { t1 - t } else { h };
+    if h < h_min(t) {
+        return Err(IntegrationError::StepSizeUnderflow { t, h });
+    }
+    Ok((h, last))
+}
+
+/// Emits every requested output time in `(t, t_new]` after an accepted step: `y1` itself at
+/// `t_new`, the dense output `interp(s)` (s = (t_out − t)/h) in between. `interp` is built
+/// only when the step holds an output time.
+#[inline]
+pub(crate) fn emit_dense<const D: usize, F: Fn(f64) -> SVector<f64, D>>(
+    t_out: &[f64],
+    next: &mut usize,
+    (t, h, t_new): (f64, f64, f64),
+    y1: &SVector<f64, D>,
+    interp: impl FnOnce() -> F,
+    out: &mut impl FnMut(f64, &SVector<f64, D>),
+) {
+    if *next >= t_out.len() || t_out[*next] > t_new {
+        return;
+    }
+    let interp = interp();
+    while *next < t_out.len() && t_out[*next] <= t_new {
+        let to = t_out[*next];
+        if to == t_new {
+            out(to, y1)
+        } else {
+            out(to, &interp((to - t) / h))
+        }
+        *next += 1;
+    }
+}
+
 /// Smallest step allowed at time `t`.
 #[inline]
 pub(crate) fn h_min(t: f64) -> f64 {

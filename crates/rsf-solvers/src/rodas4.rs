@@ -11,7 +11,8 @@
 //! increment form `(I/(hγ) − J) k_i = f(y + Σ a_ij k_j) + Σ (c_ij/h) k_j`.
 
 use crate::ode::{
-    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, error_norm, h_min, initial_step,
+    Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances, clip_step, emit_dense, error_norm,
+    initial_step,
 };
 use nalgebra::{SMatrix, SVector};
 
@@ -174,13 +175,8 @@ impl Integrator for Rodas4 {
                 return Err(IntegrationError::TooManySteps { t, steps });
             }
             steps += 1;
-            let last = t + h >= t1 - 1e-12 * span.max(h);
-            if last {
-                h = t1 - t;
-            }
-            if h < h_min(t) {
-                return Err(IntegrationError::StepSizeUnderflow { t, h });
-            }
+            let (h_step, last) = clip_step(t, h, t1, span)?;
+            h = h_step;
             let w = SMatrix::<f64, D, D>::identity() * (1.0 / (h * GAMMA)) - jac;
             let lu = Lu::new(w).ok_or(IntegrationError::Singular { t })?;
             stats.lu_decompositions += 1;
@@ -206,22 +202,13 @@ impl Integrator for Rodas4 {
                 }
                 stats.accepted += 1;
                 let t_new = if last { t1 } else { t + h };
-                if next_out < t_out.len() && t_out[next_out] <= t_new {
+                let yc = y;
+                let dense = || {
                     let d1 = k1 * H21 + k2 * H22 + k3 * H23 + k4 * H24 + k5 * H25;
                     let d2 = k1 * H31 + k2 * H32 + k3 * H33 + k4 * H34 + k5 * H35;
-                    while next_out < t_out.len() && t_out[next_out] <= t_new {
-                        let to = t_out[next_out];
-                        if to == t_new {
-                            out(to, &y1);
-                        } else {
-                            let s = (to - t) / h;
-                            let s1 = 1.0 - s;
-                            let yo = y * s1 + (y1 + (d1 + d2 * s) * s1) * s;
-                            out(to, &yo);
-                        }
-                        next_out += 1;
-                    }
-                }
+                    move |s: f64| yc * (1.0 - s) + (y1 + (d1 + d2 * s) * (1.0 - s)) * s
+                };
+                emit_dense(t_out, &mut next_out, (t, h, t_new), &y1, dense, out);
                 let mut h_new = h / fac;
                 if reject {
                     h_new = h_new.min(h);
