@@ -49,6 +49,10 @@ pub struct Jet {
     pub d_theta: f64,
     /// ∂(dθ/dt)/∂(dτ/dt), s (per friction unit).
     pub d_stress_rate: f64,
+    /// ∂(dθ/dt)/∂Dc, 1/µm (for parameter sensitivities).
+    pub d_dc: f64,
+    /// ∂(dθ/dt)/∂b (Nagata's law only; 0 for the others).
+    pub d_b: f64,
 }
 
 /// A state-variable evolution law `dθ/dt = G(V, θ, Dc, b, dτ/dt)`.
@@ -80,7 +84,7 @@ pub struct Jet {
 /// let jet = MySlip.jet(&StateArgs::new(2.0, 5.0, 10.0, 0.01));
 /// assert!((jet.d_theta + 0.2).abs() < 1e-15);
 /// ```
-pub trait StateLaw: Debug + Send + Sync + 'static {
+pub trait StateLaw: Debug + Clone + Send + Sync + 'static {
     /// dθ/dt in s/s. `s.v > 0` and `s.theta > 0` are guaranteed by the solvers.
     fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R;
 
@@ -93,6 +97,13 @@ pub trait StateLaw: Debug + Send + Sync + 'static {
     /// The law's own parameters (name, value), e.g. `[("vc", 1e-3)]`.
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         Vec::new()
+    }
+
+    /// Sets one of the law's own parameters by name (used by fitting); the default law has
+    /// none.
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let _ = value;
+        Err(format!("law `{}` has no parameter `{name}`", self.name()))
     }
 
     /// Check the law's own parameters; return a message naming the bad one.
@@ -110,17 +121,17 @@ pub trait StateLaw: Debug + Send + Sync + 'static {
     /// Exact value and partial derivatives of dθ/dt (forward-mode dual numbers over
     /// [`theta_rate`](StateLaw::theta_rate)).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
-        type D3 = DualSVec64<3>;
+        type D5 = DualSVec64<5>;
         let args = StateArgs {
-            v: D3::from_re(s.v).derivative(0),
-            theta: D3::from_re(s.theta).derivative(1),
-            dc: D3::from_re(s.dc),
-            b: D3::from_re(s.b),
-            stress_rate: D3::from_re(s.stress_rate).derivative(2),
+            v: D5::from_re(s.v).derivative(0),
+            theta: D5::from_re(s.theta).derivative(1),
+            dc: D5::from_re(s.dc).derivative(3),
+            b: D5::from_re(s.b).derivative(4),
+            stress_rate: D5::from_re(s.stress_rate).derivative(2),
         };
         let g = self.theta_rate(&args);
-        let d = g.eps.unwrap_generic(nalgebra::Const::<3>, nalgebra::U1);
-        Jet { rate: g.re, d_v: d[0], d_theta: d[1], d_stress_rate: d[2] }
+        let d = g.eps.unwrap_generic(nalgebra::Const::<5>, nalgebra::U1);
+        Jet { rate: g.re, d_v: d[0], d_theta: d[1], d_stress_rate: d[2], d_dc: d[3], d_b: d[4] }
     }
 
     /// Steady-state θ at slip rate `v` (µm/s) for this `dc` (µm): the root of
@@ -208,6 +219,9 @@ pub trait DynStateLaw: Debug + Send + Sync {
     fn parameters(&self) -> Vec<(&'static str, f64)>;
     /// See [`StateLaw::validate`].
     fn validate(&self) -> Result<(), String>;
+    /// A copy of this law with parameter `name` set to `value` (see
+    /// [`StateLaw::set_parameter`]).
+    fn with_parameter(&self, name: &str, value: f64) -> Result<std::sync::Arc<dyn DynStateLaw>, String>;
 }
 
 impl<L: StateLaw> DynStateLaw for L {
@@ -232,5 +246,10 @@ impl<L: StateLaw> DynStateLaw for L {
     }
     fn validate(&self) -> Result<(), String> {
         StateLaw::validate(self)
+    }
+    fn with_parameter(&self, name: &str, value: f64) -> Result<std::sync::Arc<dyn DynStateLaw>, String> {
+        let mut l = self.clone();
+        l.set_parameter(name, value)?;
+        Ok(std::sync::Arc::new(l))
     }
 }

@@ -154,14 +154,14 @@ mod tests {
     use super::*;
     use crate::{FrictionForm, Real, StateArgs, StateLaw, StateVariable};
 
-    #[derive(Debug)]
+    #[derive(Debug, Clone)]
     struct Aging;
     impl StateLaw for Aging {
         fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
             -(s.v * s.theta / s.dc) + 1.0
         }
     }
-    #[derive(Debug)]
+    #[derive(Debug, Clone)]
     struct Slip;
     impl StateLaw for Slip {
         fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
@@ -170,7 +170,7 @@ mod tests {
         }
     }
     /// Nagata-like: depends on the stress rate.
-    #[derive(Debug)]
+    #[derive(Debug, Clone)]
     struct StressRate;
     impl StateLaw for StressRate {
         fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {

@@ -43,9 +43,18 @@ impl StateLaw for Aging {
     fn name(&self) -> String {
         "aging".into()
     }
-    /// Hand-derived: ∂G/∂V = −θ/Dc, ∂G/∂θ = −V/Dc (checked against the dual-number default).
+    /// Hand-derived: ∂G/∂V = −θ/Dc, ∂G/∂θ = −V/Dc, ∂G/∂Dc = Ω/Dc (checked against the
+    /// dual-number default).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
-        Jet { rate: 1.0 - s.v * s.theta / s.dc, d_v: -s.theta / s.dc, d_theta: -s.v / s.dc, d_stress_rate: 0.0 }
+        let omega = s.v * s.theta / s.dc;
+        Jet {
+            rate: 1.0 - omega,
+            d_v: -s.theta / s.dc,
+            d_theta: -s.v / s.dc,
+            d_stress_rate: 0.0,
+            d_dc: omega / s.dc,
+            d_b: 0.0,
+        }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
         Ok(dc / v)
@@ -70,7 +79,8 @@ impl StateLaw for Slip {
     fn name(&self) -> String {
         "slip".into()
     }
-    /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1).
+    /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1),
+    /// ∂G/∂Dc = (Ω/Dc)(ln Ω + 1).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
         let omega = s.v * s.theta / s.dc;
         let l = omega.ln();
@@ -79,6 +89,8 @@ impl StateLaw for Slip {
             d_v: -(s.theta / s.dc) * (l + 1.0),
             d_theta: -(s.v / s.dc) * (l + 1.0),
             d_stress_rate: 0.0,
+            d_dc: (omega / s.dc) * (l + 1.0),
+            d_b: 0.0,
         }
     }
     fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
@@ -111,6 +123,15 @@ impl StateLaw for KatoTullis {
     }
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         vec![("vc", self.vc)]
+    }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), String> {
+        match name {
+            "vc" => {
+                self.vc = value;
+                Ok(())
+            }
+            _ => Err(format!("law `kato-tullis` has no parameter `{name}`")),
+        }
     }
     fn validate(&self) -> Result<(), String> {
         if self.vc > 0.0 && self.vc.is_finite() {
@@ -187,6 +208,15 @@ impl StateLaw for Nagata {
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         vec![("c", self.c)]
     }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), String> {
+        match name {
+            "c" => {
+                self.c = value;
+                Ok(())
+            }
+            _ => Err(format!("law `nagata` has no parameter `{name}`")),
+        }
+    }
     fn validate(&self) -> Result<(), String> {
         if self.c >= 0.0 && self.c.is_finite() {
             Ok(())
@@ -257,6 +287,10 @@ mod tests {
                 let dv = fd(&|x| StateArgs { v: x, ..s }, v);
                 let dt = fd(&|x| StateArgs { theta: x, ..s }, theta);
                 let ds = fd(&|x| StateArgs { stress_rate: x, ..s }, sr);
+                let ddc = fd(&|x| StateArgs { dc: x, ..s }, 10.0);
+                let db = fd(&|x| StateArgs { b: x, ..s }, 0.01);
+                assert_relative_eq!(j.d_dc, ddc, max_relative = 1e-6, epsilon = 1e-9);
+                assert_relative_eq!(j.d_b, db, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_v, dv, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_theta, dt, max_relative = 1e-6, epsilon = 1e-9);
                 assert_relative_eq!(j.d_stress_rate, ds, max_relative = 1e-6, epsilon = 1e-9);
@@ -267,7 +301,7 @@ mod tests {
     /// The hand-derived jets of Aging and Slip equal the dual-number default.
     #[test]
     fn hand_jets_equal_the_automatic_ones() {
-        #[derive(Debug)]
+        #[derive(Debug, Clone)]
         struct Auto<L: StateLaw>(L);
         impl<L: StateLaw> StateLaw for Auto<L> {
             fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
@@ -280,9 +314,14 @@ mod tests {
                 (StateLaw::jet(&Aging, &s), StateLaw::jet(&Auto(Aging), &s)),
                 (StateLaw::jet(&Slip, &s), StateLaw::jet(&Auto(Slip), &s)),
             ] {
-                for (x, y) in
-                    [(h.rate, a.rate), (h.d_v, a.d_v), (h.d_theta, a.d_theta), (h.d_stress_rate, a.d_stress_rate)]
-                {
+                for (x, y) in [
+                    (h.rate, a.rate),
+                    (h.d_v, a.d_v),
+                    (h.d_theta, a.d_theta),
+                    (h.d_stress_rate, a.d_stress_rate),
+                    (h.d_dc, a.d_dc),
+                    (h.d_b, a.d_b),
+                ] {
                     assert_relative_eq!(x, y, max_relative = 1e-14, epsilon = 1e-300);
                 }
             }
@@ -301,7 +340,7 @@ mod tests {
             }
         }
         // the default Newton solver (trait default) finds the Kato–Tullis root too
-        #[derive(Debug)]
+        #[derive(Debug, Clone)]
         struct KtDefault(f64);
         impl StateLaw for KtDefault {
             fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
