@@ -56,9 +56,13 @@ fn run(c: &Case) -> Option<[(f64, f64, usize); 2]> {
     }
     let t_disp: Vec<f64> = keep.iter().map(|&r| (lp[r] - lp[0]) / v_after).collect();
     let lp_disp: Vec<f64> = keep.iter().map(|&r| lp[r]).collect();
-    let mut p =
-        Problem::new(m.clone(), Loading::Record(LoadRecord { time: t_disp, load_point: lp_disp }), v_before, 1.0);
-    p.output = OutputTimes::PieceEnds;
+    let mut p = Problem::new(
+        m.clone(),
+        Loading::Record(LoadRecord { time: t_disp.clone(), load_point: lp_disp }),
+        v_before,
+        1.0,
+    );
+    p.output = OutputTimes::Times(t_disp);
     let sol = solve(&p, &Rodas4::new(1e-10, 1e-12)).unwrap();
     let diffs: Vec<f64> = keep.iter().enumerate().map(|(j, &r)| sol.mu[j] - model_mu[r]).collect();
     let stat = |d: &[f64]| {
@@ -74,8 +78,8 @@ fn run(c: &Case) -> Option<[(f64, f64, usize); 2]> {
         c.file, xlook.2, xlook.0, xlook.1
     );
     // (b) the recorded time history
-    let mut p = Problem::new(m, Loading::Record(LoadRecord { time, load_point: lp }), v_before, 1.0);
-    p.output = OutputTimes::PieceEnds;
+    let mut p = Problem::new(m, Loading::Record(LoadRecord { time: time.clone(), load_point: lp }), v_before, 1.0);
+    p.output = OutputTimes::Times(time);
     let e = solve(&p, &Dopri5::new(1e-10, 1e-12)).unwrap();
     let i = solve(&p, &Rodas4::new(1e-10, 1e-12)).unwrap();
     let (mut ss, mut max) = (0.0, 0.0f64);

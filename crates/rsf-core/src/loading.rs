@@ -141,11 +141,22 @@ impl Loading {
             }
             Loading::Record(r) => {
                 r.validate()?;
-                Ok(r.time
-                    .windows(2)
-                    .zip(r.load_point.windows(2))
-                    .map(|(t, x)| Piece { t0: t[0], t1: t[1], lp0: x[0], v: (x[1] - x[0]) / (t[1] - t[0]) })
-                    .collect())
+                // Consecutive intervals of exactly the same velocity (to round-off) are one
+                // piece: a synthetic or idealized record then costs what its protocol costs.
+                let mut out: Vec<Piece> = Vec::new();
+                for (t, x) in r.time.windows(2).zip(r.load_point.windows(2)) {
+                    let v = (x[1] - x[0]) / (t[1] - t[0]);
+                    if let Some(last) = out.last_mut() {
+                        if (v - last.v).abs() <= 1e-12 * v.abs().max(last.v.abs())
+                            && (last.load_point(t[1]) - x[1]).abs() <= 1e-12 * x[1].abs().max(1.0)
+                        {
+                            last.t1 = t[1];
+                            continue;
+                        }
+                    }
+                    out.push(Piece { t0: t[0], t1: t[1], lp0: x[0], v });
+                }
+                Ok(out)
             }
         }
     }
@@ -161,6 +172,18 @@ mod tests {
         let p = l.pieces().unwrap();
         assert_eq!(p[1], Piece { t0: 10.0, t1: 14.0, lp0: 10.0, v: 0.5 });
         assert_eq!(p[1].load_point(14.0), 12.0);
+    }
+
+    #[test]
+    fn record_intervals_of_equal_velocity_merge() {
+        // 0..2 s at 1 µm/s sampled every 0.5 s, then a hold, then 3 µm/s
+        let time = vec![0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 4.5];
+        let load_point = vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.0, 2.0, 3.5];
+        let p = Loading::Record(LoadRecord { time, load_point }).pieces().unwrap();
+        assert_eq!(p.len(), 3);
+        assert_eq!((p[0].t0, p[0].t1, p[0].v), (0.0, 2.0, 1.0));
+        assert_eq!((p[1].t0, p[1].t1, p[1].v), (2.0, 4.0, 0.0));
+        assert_eq!((p[2].t0, p[2].t1, p[2].v, p[2].lp0), (4.0, 4.5, 3.0, 2.0));
     }
 
     #[test]

@@ -149,6 +149,141 @@ impl<'a> SpringSlider<'a> {
     }
 }
 
+/// Number of model parameters for sensitivities with `n` state variables: the layout is
+/// `[mu0, a, k, b_1, dc_1, q_1, …, b_n, dc_n, q_n]`, where `q_i` is the law's first own
+/// parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws without one).
+pub fn n_params(n_states: usize) -> usize {
+    3 + 3 * n_states
+}
+
+/// Index of a named parameter in the layout of [`n_params`]: `mu0`, `a`, `k`, `b1`, `dc1`,
+/// `q1` (or the law's own name, e.g. `vc1`), `b2`, …; `b`/`dc` alone mean state 1.
+pub fn param_index(model: &Model, name: &str) -> Option<usize> {
+    match name {
+        "mu0" => return Some(0),
+        "a" => return Some(1),
+        "k" | "stiffness" => return Some(2),
+        _ => {}
+    }
+    let split = name.find(|c: char| c.is_ascii_digit()).unwrap_or(name.len());
+    let (base, num) = name.split_at(split);
+    let i: usize = if num.is_empty() { 1 } else { num.parse().ok()? };
+    if i == 0 || i > model.states.len() {
+        return None;
+    }
+    let off = 3 + 3 * (i - 1);
+    match base {
+        "b" => Some(off),
+        "dc" => Some(off + 1),
+        "q" => Some(off + 2),
+        other => {
+            let own = model.states[i - 1].law.parameters();
+            if own.first().map(|p| p.0) == Some(other) { Some(off + 2) } else { None }
+        }
+    }
+}
+
+impl SpringSlider<'_> {
+    fn check_sensitivity_support(&self) -> Result<(), String> {
+        if self.model.form != crate::FrictionForm::Classic {
+            return Err("parameter sensitivities need the classic friction form".into());
+        }
+        if self.model.imposed_velocity() {
+            return Err("parameter sensitivities need a finite stiffness".into());
+        }
+        Ok(())
+    }
+
+    /// `∂f/∂p`: the derivative of the right-hand side with respect to the parameters of
+    /// [`n_params`], column-major `(N + 2) × P` into `fp`. Classic form only. The law's own
+    /// parameter enters through a central difference of its rate (relative step 1e-6);
+    /// everything else is exact.
+    pub fn parameter_jacobian(&self, y: &[f64], fp: &mut [f64]) -> Result<(), String> {
+        self.check_sensitivity_support()?;
+        let m = self.model;
+        let n = m.states.len();
+        let d = n + 2;
+        fp.iter_mut().for_each(|v| *v = 0.0);
+        let at = |r: usize, c: usize| c * d + r;
+        let v = y[0].exp();
+        let tau_rate = m.stiffness * (self.v_lp - v);
+        let den = m.a + m.eta * v;
+        let mut psi_rate = 0.0;
+        let mut dpsi_dk = 0.0;
+        for (i, s) in m.states.iter().enumerate() {
+            let theta = y[1 + i].exp();
+            let args = StateArgs { v, theta, dc: s.dc, b: s.b, stress_rate: tau_rate };
+            let j = s.law.jet(&args);
+            let zdot = j.rate / theta;
+            psi_rate += s.b * zdot;
+            let off = 3 + 3 * i;
+            let dz_dk = j.d_stress_rate * (self.v_lp - v) / theta;
+            let dz_db = j.d_b / theta;
+            let dz_ddc = j.d_dc / theta;
+            fp[at(1 + i, 2)] = dz_dk;
+            fp[at(1 + i, off)] = dz_db;
+            fp[at(1 + i, off + 1)] = dz_ddc;
+            dpsi_dk += s.b * dz_dk;
+            fp[at(0, off)] = -(zdot + s.b * dz_db) / den;
+            fp[at(0, off + 1)] = -s.b * dz_ddc / den;
+            if let Some((name, q)) = s.law.parameters().first().copied() {
+                let h = 1e-6 * q.abs().max(1e-12);
+                let rate = |qq: f64| s.law.with_parameter(name, qq).map(|l| l.rate(&args));
+                let dz_dq = (rate(q + h)? - rate(q - h)?) / (2.0 * h) / theta;
+                fp[at(1 + i, off + 2)] = dz_dq;
+                fp[at(0, off + 2)] = -s.b * dz_dq / den;
+            }
+        }
+        let xdot = (tau_rate - psi_rate) / den;
+        fp[at(0, 1)] = -xdot / den;
+        fp[at(0, 2)] = ((self.v_lp - v) - dpsi_dk) / den;
+        Ok(())
+    }
+
+    /// Gradients of the spring stress τ = f(V, θ) + ηV: `∂τ/∂y` (length N + 2) and the
+    /// explicit `∂τ/∂p` (length [`n_params`]). Classic form only.
+    pub fn stress_gradients(&self, y: &[f64], dtau_dy: &mut [f64], dtau_dp: &mut [f64]) -> Result<(), String> {
+        self.check_sensitivity_support()?;
+        let m = self.model;
+        let n = m.states.len();
+        dtau_dy.iter_mut().for_each(|v| *v = 0.0);
+        dtau_dp.iter_mut().for_each(|v| *v = 0.0);
+        dtau_dy[0] = m.a + m.eta * y[0].exp();
+        dtau_dp[0] = 1.0;
+        dtau_dp[1] = y[0] - m.v0.ln();
+        let lv0 = m.v0.ln();
+        for (i, s) in m.states.iter().enumerate() {
+            dtau_dy[1 + i] = s.b;
+            let off = 3 + 3 * i;
+            dtau_dp[off] = lv0 + y[1 + i] - (s.law.theta_scale() * s.dc).ln();
+            dtau_dp[off + 1] = -s.b / s.dc;
+        }
+        let _ = n;
+        Ok(())
+    }
+
+    /// `∂y0/∂p` of the steady-state start at slip rate `v` (column-major `(N + 2) × P`):
+    /// only ln θ_i depends on the parameters (on Dc_i and the law's own parameter), by central
+    /// differences of the law's steady state (exact for laws with θ_ss ∝ Dc).
+    pub fn steady_state_sensitivity(model: &Model, v: f64, s0: &mut [f64]) -> Result<(), String> {
+        let n = model.states.len();
+        let d = n + 2;
+        s0.iter_mut().for_each(|x| *x = 0.0);
+        for (i, s) in model.states.iter().enumerate() {
+            let off = 3 + 3 * i;
+            let lnth = |dc: f64| s.law.steady_state_theta(v, dc).map(f64::ln);
+            let h = 1e-6 * s.dc;
+            s0[(off + 1) * d + 1 + i] = (lnth(s.dc + h)? - lnth(s.dc - h)?) / (2.0 * h);
+            if let Some((name, q)) = s.law.parameters().first().copied() {
+                let h = 1e-6 * q.abs().max(1e-12);
+                let th = |qq: f64| s.law.with_parameter(name, qq)?.steady_state_theta(v, s.dc).map(f64::ln);
+                s0[(off + 2) * d + 1 + i] = (th(q + h)? - th(q - h)?) / (2.0 * h);
+            }
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -233,6 +368,84 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// ∂f/∂p and ∂τ/∂p against central differences of the RHS and stress under parameter
+    /// perturbations of a rebuilt model.
+    #[test]
+    fn parameter_jacobian_matches_central_differences() {
+        #[derive(Debug, Clone)]
+        struct Kt {
+            vc: f64,
+        }
+        impl StateLaw for Kt {
+            fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+                let o = s.v * s.theta / s.dc;
+                (-(s.v / self.vc)).exp() - o * o.ln()
+            }
+            fn parameters(&self) -> Vec<(&'static str, f64)> {
+                vec![("vc", self.vc)]
+            }
+            fn set_parameter(&mut self, _: &str, v: f64) -> Result<(), String> {
+                self.vc = v;
+                Ok(())
+            }
+        }
+        let base = Model::new(0.6, 1.0, 0.011, 0.02)
+            .with_state(StateVariable::new(Slip, 0.009, 3.0))
+            .with_state(StateVariable::new(StressRate, 0.004, 20.0))
+            .with_state(StateVariable::new(Kt { vc: 0.3 }, 0.003, 7.0))
+            .with_eta(0.01);
+        let p0 = |m: &Model| {
+            let mut p = vec![m.mu0, m.a, m.stiffness];
+            for s in &m.states {
+                p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
+            }
+            p
+        };
+        let rebuild = |p: &[f64]| {
+            let mut m = base.clone();
+            m.mu0 = p[0];
+            m.a = p[1];
+            m.stiffness = p[2];
+            for (i, s) in m.states.iter_mut().enumerate() {
+                s.b = p[3 + 3 * i];
+                s.dc = p[4 + 3 * i];
+                if let Some((name, _)) = s.law.parameters().first().copied() {
+                    s.law = s.law.with_parameter(name, p[5 + 3 * i]).unwrap();
+                }
+            }
+            m
+        };
+        let d = 5;
+        let np = n_params(3);
+        let y = [-1.0, 0.8, 2.5, 1.2, 3.0];
+        let pv = p0(&base);
+        let sys = SpringSlider::new(&base, 0.7);
+        let mut fp = vec![0.0; d * np];
+        sys.parameter_jacobian(&y, &mut fp).unwrap();
+        let (mut gy, mut gp) = (vec![0.0; d], vec![0.0; np]);
+        sys.stress_gradients(&y, &mut gy, &mut gp).unwrap();
+        for j in 0..np {
+            if j == 8 || pv[j] == 0.0 {
+                continue; // q of a law without parameters
+            }
+            let h = 1e-6 * pv[j].abs();
+            let (mut pp, mut pm) = (pv.clone(), pv.clone());
+            pp[j] += h;
+            pm[j] -= h;
+            let (mp, mm) = (rebuild(&pp), rebuild(&pm));
+            let (mut fpp, mut fmm) = (vec![0.0; d], vec![0.0; d]);
+            SpringSlider::new(&mp, 0.7).rhs(&y, &mut fpp);
+            SpringSlider::new(&mm, 0.7).rhs(&y, &mut fmm);
+            for r in 0..d {
+                let fd = (fpp[r] - fmm[r]) / (2.0 * h);
+                let ex = fp[j * d + r];
+                assert!((fd - ex).abs() <= 1e-6 * fd.abs().max(ex.abs()).max(1e-6), "df{r}/dp{j}: {ex:e} vs {fd:e}");
+            }
+            let tfd = (SpringSlider::new(&mp, 0.7).stress(&y) - SpringSlider::new(&mm, 0.7).stress(&y)) / (2.0 * h);
+            assert!((tfd - gp[j]).abs() < 1e-6 * tfd.abs().max(1e-6), "dtau/dp{j}: {} vs {tfd}", gp[j]);
         }
     }
 

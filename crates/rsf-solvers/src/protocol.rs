@@ -338,7 +338,10 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             }
             OutputTimes::Every(v)
         }
-        None if is_record => OutputTimes::PieceEnds,
+        None if is_record => match &loading {
+            Loading::Record(r) => OutputTimes::Times(r.time.clone()),
+            Loading::Segments(_) => unreachable!("is_record"),
+        },
         None => {
             let span = raw.output.as_ref().map(|o| o.span());
             return Err(err(span.as_ref(), "output.dt", "required: the output sampling interval in s".into()));

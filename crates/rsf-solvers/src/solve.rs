@@ -14,7 +14,8 @@ pub const MAX_STATES: usize = 8;
 pub enum OutputTimes {
     /// `t = 0, dt, 2dt, …` and the end of the last segment (s).
     Every(f64),
-    /// At every piece boundary (the record's own sample times for a measured record).
+    /// At every piece boundary (segment ends; for a record, the ends of its merged pieces of
+    /// constant load-point velocity).
     PieceEnds,
     /// At these times (s, sorted, within the loading's time span).
     Times(Vec<f64>),
@@ -223,7 +224,8 @@ pub fn solve<I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, Solv
     dispatch!(1 => 3, 2 => 4, 3 => 5, 4 => 6, 5 => 7, 6 => 8, 7 => 9, 8 => 10)
 }
 
-fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveError> {
+/// The output times of `problem` over its `pieces`.
+pub fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, SolveError> {
     let t0 = pieces[0].t0;
     let t_end = pieces[pieces.len() - 1].t1;
     match &problem.output {
@@ -329,7 +331,7 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         tolerances: Some(tol),
     };
     let y_init = SpringSlider::steady_state(model, problem.v_init)?;
-    let mut y = SVector::<f64, D>::from_column_slice(&y_init);
+    let y = SVector::<f64, D>::from_column_slice(&y_init);
     let ln_v_max = problem.max_slip_rate.ln();
 
     let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
@@ -343,6 +345,41 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         }
     };
 
+    let mut stats = StepStats::default();
+    drive(
+        model,
+        &pieces,
+        &t_out,
+        y,
+        alg,
+        |sys| SliderOde::<D> { sys, ln_v_max },
+        problem.max_slip_rate,
+        &mut stats,
+        |piece, t, y| record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y),
+    )?;
+    sol.stats = stats;
+    Ok(sol)
+}
+
+/// Integrates `y0` across the constant-velocity `pieces`, restarting the integrator exactly at
+/// every boundary and calling `record(piece, t, y)` at every time of `t_out` (sorted, within
+/// the pieces' span; a time on a boundary is recorded once). `make` wraps the spring-slider of
+/// each piece into the system actually integrated (e.g. augmented with sensitivities, whose
+/// first N + 2 components must be the spring-slider's). Returns the end state; a failure is
+/// reported as a blow-up (with time, slip rate and friction) or as the failing piece.
+#[allow(clippy::too_many_arguments)]
+pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
+    model: &'m Model,
+    pieces: &[Piece],
+    t_out: &[f64],
+    y0: SVector<f64, D>,
+    alg: &I,
+    make: impl Fn(SpringSlider<'m>) -> S,
+    max_slip_rate: f64,
+    stats: &mut StepStats,
+    mut record: impl FnMut(&Piece, f64, &SVector<f64, D>),
+) -> Result<SVector<f64, D>, SolveError> {
+    let mut y = y0;
     let mut oi = 0; // next output index
     let mut h = 0.0;
     for (pi, piece) in pieces.iter().enumerate() {
@@ -350,19 +387,18 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         if model.imposed_velocity() {
             y[0] = piece.v.ln();
         }
-        // outputs at the piece start (t = t0 of the first piece, or sample times that fall on
-        // a boundary are emitted by the piece that ends there)
+        // times on the start of the first piece; later boundaries belong to the piece ending there
         while oi < t_out.len() && t_out[oi] <= piece.t0 {
-            record(&mut sol, &sys, piece, t_out[oi], &y);
+            record(piece, t_out[oi], &y);
             oi += 1;
         }
         let start = oi;
         while oi < t_out.len() && t_out[oi] <= piece.t1 {
             oi += 1;
         }
-        let ode = SliderOde::<D> { sys, ln_v_max };
+        let ode = make(sys);
         let v_start = y[0].exp();
-        let mut rows: Vec<(f64, SVector<f64, D>)> = Vec::new();
+        let mut last: Option<SVector<f64, D>> = None;
         let res = alg.integrate(
             &ode,
             piece.t0,
@@ -370,12 +406,12 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
             piece.t1,
             h,
             &t_out[start..oi],
-            &mut |t, yy| rows.push((t, *yy)),
-            &mut sol.stats,
+            &mut |t, yy| {
+                record(piece, t, yy);
+                last = Some(*yy);
+            },
+            stats,
         );
-        for (t, yy) in &rows {
-            record(&mut sol, &sys, piece, *t, yy);
-        }
         match res {
             Ok(r) => {
                 y = r.y;
@@ -388,18 +424,15 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
                     | IntegrationError::Stopped { t, .. }
                     | IntegrationError::Singular { t } => *t,
                 };
-                let blew_up = matches!(e, IntegrationError::Stopped { .. })
+                let stopped = matches!(e, IntegrationError::Stopped { .. });
+                let blew_up = stopped
                     || (matches!(e, IntegrationError::StepSizeUnderflow { .. })
-                        && rows.last().map(|(_, yy)| yy[0] > y[0] + 2.0).unwrap_or(true));
+                        && last.map(|yy| yy[0] > y[0] + 2.0).unwrap_or(true));
                 if blew_up && !model.imposed_velocity() {
-                    let yy = rows.last().map(|r| r.1).unwrap_or(y);
+                    let yy = last.unwrap_or(y);
                     return Err(SolveError::BlowUp {
                         t: t_fail,
-                        v: yy[0].exp().max(if matches!(e, IntegrationError::Stopped { .. }) {
-                            problem.max_slip_rate
-                        } else {
-                            0.0
-                        }),
+                        v: yy[0].exp().max(if stopped { max_slip_rate } else { 0.0 }),
                         mu: sys.stress(yy.as_slice()),
                         k: model.stiffness,
                         kc: model.critical_stiffness_estimate(),
@@ -409,5 +442,5 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
             }
         }
     }
-    Ok(sol)
+    Ok(y)
 }
