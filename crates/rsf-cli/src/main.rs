@@ -14,8 +14,80 @@ struct Cli {
     command: Command,
 }
 
+/// How to read a measured record.
+#[derive(clap::Args, Clone, Debug)]
+struct DataArgs {
+    /// Time column (s unless --time-unit).
+    #[arg(long, default_value = "time_s")]
+    time_col: String,
+    /// Load-point displacement column (µm unless --disp-unit).
+    #[arg(long, default_value = "load_point_um")]
+    lp_col: String,
+    /// Friction column.
+    #[arg(long, default_value = "mu")]
+    mu_col: String,
+    /// Shear-stress column; friction = shear / normal stress (needs --normal-stress or --normal-col).
+    #[arg(long)]
+    shear_col: Option<String>,
+    /// Normal-stress column, same units as the shear column.
+    #[arg(long)]
+    normal_col: Option<String>,
+    /// Constant normal stress, same units as the shear column.
+    #[arg(long)]
+    normal_stress: Option<f64>,
+    /// Unit of the load-point column: um, mm or m.
+    #[arg(long, default_value = "um")]
+    disp_unit: String,
+    /// Unit of the time column: s or ms.
+    #[arg(long, default_value = "s")]
+    time_unit: String,
+    /// Use only rows with time >= this (s).
+    #[arg(long)]
+    t_min: Option<f64>,
+    /// Use only rows with time <= this (s).
+    #[arg(long)]
+    t_max: Option<f64>,
+}
+
+impl DataArgs {
+    fn read(&self, path: &std::path::Path) -> Result<rsf_fit::data::Record> {
+        use rsf_fit::data::{DispUnit, ReadOptions, TimeUnit};
+        let opts = ReadOptions {
+            time_col: self.time_col.clone(),
+            lp_col: self.lp_col.clone(),
+            mu_col: self.mu_col.clone(),
+            shear_col: self.shear_col.clone(),
+            normal_col: self.normal_col.clone(),
+            normal_stress: self.normal_stress,
+            disp_unit: DispUnit::parse(&self.disp_unit)
+                .with_context(|| format!("--disp-unit `{}`: use um, mm or m", self.disp_unit))?,
+            time_unit: TimeUnit::parse(&self.time_unit)
+                .with_context(|| format!("--time-unit `{}`: use s or ms", self.time_unit))?,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        };
+        Ok(rsf_fit::data::read_record(path, &opts)?)
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
+    /// Detect the loading protocol (segments of constant load-point velocity) of a record.
+    Segments {
+        /// The record (CSV or whitespace/tab-separated text with a header).
+        data: PathBuf,
+        #[command(flatten)]
+        read: DataArgs,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Velocity ratio below which neighbouring segments are one (default 1.3).
+        #[arg(long, default_value_t = 1.3)]
+        min_ratio: f64,
+        /// Shortest segment (s); shorter pieces (servo oscillation, noise bursts) join a neighbour.
+        #[arg(long, default_value_t = 0.3)]
+        min_duration: f64,
+    },
     /// Simulate a spring-slider protocol described in a TOML file.
     #[command(long_about = SIMULATE_HELP)]
     Simulate {
@@ -91,8 +163,45 @@ fn main() {
     }
 }
 
+/// Writes to standard output; a closed pipe (`rsf … | head`) is not an error.
+fn write_stdout(text: &str) -> Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => Ok(r?),
+    }
+}
+
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Segments { data, read, json, min_ratio, min_duration } => {
+            let rec = read.read(&data)?;
+            let opts = rsf_fit::segment::SegmentOptions { min_ratio, min_duration, ..Default::default() };
+            let segs = rsf_fit::segment::detect(&rec.time, &rec.load_point, &opts);
+            let text = if json {
+                serde_json::to_string_pretty(&segs)? + "\n"
+            } else {
+                let mut t = format!(
+                    "{:>3} {:>10} {:>12} {:>12} {:>10} {:>12} {:>12} {:>8}\n",
+                    "#", "kind", "t_start_s", "t_end_s", "dur_s", "lp_start_um", "v_um_s", "samples"
+                );
+                for (k, s) in segs.iter().enumerate() {
+                    t += &format!(
+                        "{:>3} {:>10} {:>12.3} {:>12.3} {:>10.3} {:>12.3} {:>12.5} {:>8}\n",
+                        k + 1,
+                        s.kind.name(),
+                        s.t0,
+                        s.t1,
+                        s.t1 - s.t0,
+                        s.lp0,
+                        s.v,
+                        s.i1 + 1 - s.i0
+                    );
+                }
+                t
+            };
+            write_stdout(&text)
+        }
         Command::Simulate { protocol, output, plot, method, rtol, atol } => {
             let mut p = rsf_solvers::protocol::load(&protocol)?;
             if method.is_some() || rtol.is_some() || atol.is_some() {

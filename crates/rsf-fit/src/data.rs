@@ -1,0 +1,417 @@
+//! Reading measured records: delimited text with a header naming the columns.
+
+use serde::Serialize;
+use std::path::Path;
+
+/// Displacement unit of the file's load-point column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DispUnit {
+    /// µm (default).
+    Um,
+    /// mm.
+    Mm,
+    /// m.
+    M,
+}
+
+impl DispUnit {
+    /// Factor to µm.
+    pub fn to_um(self) -> f64 {
+        match self {
+            Self::Um => 1.0,
+            Self::Mm => 1e3,
+            Self::M => 1e6,
+        }
+    }
+    /// From `um`, `mm` or `m`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "um" | "µm" | "micron" | "microns" => Some(Self::Um),
+            "mm" => Some(Self::Mm),
+            "m" => Some(Self::M),
+            _ => None,
+        }
+    }
+}
+
+/// Time unit of the file's time column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeUnit {
+    /// s (default).
+    S,
+    /// ms.
+    Ms,
+}
+
+impl TimeUnit {
+    /// Factor to s.
+    pub fn to_s(self) -> f64 {
+        match self {
+            Self::S => 1.0,
+            Self::Ms => 1e-3,
+        }
+    }
+    /// From `s` or `ms`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "s" => Some(Self::S),
+            "ms" => Some(Self::Ms),
+            _ => None,
+        }
+    }
+}
+
+/// Which columns to read and how to convert them.
+#[derive(Clone, Debug)]
+pub struct ReadOptions {
+    /// Time column (default `time_s`).
+    pub time_col: String,
+    /// Load-point displacement column (default `load_point_um`).
+    pub lp_col: String,
+    /// Friction column (default `mu`); ignored when `shear_col` is set.
+    pub mu_col: String,
+    /// Shear-stress column; friction = shear / normal stress.
+    pub shear_col: Option<String>,
+    /// Normal-stress column (same units as shear).
+    pub normal_col: Option<String>,
+    /// Constant normal stress (same units as shear), instead of a column.
+    pub normal_stress: Option<f64>,
+    /// Unit of the load-point column.
+    pub disp_unit: DispUnit,
+    /// Unit of the time column.
+    pub time_unit: TimeUnit,
+    /// Keep rows with time ≥ this (s, after unit conversion).
+    pub t_min: Option<f64>,
+    /// Keep rows with time ≤ this (s).
+    pub t_max: Option<f64>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self {
+            time_col: "time_s".into(),
+            lp_col: "load_point_um".into(),
+            mu_col: "mu".into(),
+            shear_col: None,
+            normal_col: None,
+            normal_stress: None,
+            disp_unit: DispUnit::Um,
+            time_unit: TimeUnit::S,
+            t_min: None,
+            t_max: None,
+        }
+    }
+}
+
+/// A measured record in rsf units: time (s), load-point displacement (µm), friction.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Record {
+    /// Time, s, strictly increasing.
+    pub time: Vec<f64>,
+    /// Load-point displacement, µm.
+    pub load_point: Vec<f64>,
+    /// Friction (shear stress / normal stress).
+    pub mu: Vec<f64>,
+    /// Where it came from.
+    pub source: String,
+}
+
+impl Record {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+    /// Whether empty.
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+    /// The rows with `t0 <= time <= t1`.
+    pub fn window(&self, t0: f64, t1: f64) -> Record {
+        let i0 = self.time.partition_point(|&t| t < t0);
+        let i1 = self.time.partition_point(|&t| t <= t1);
+        Record {
+            time: self.time[i0..i1].to_vec(),
+            load_point: self.load_point[i0..i1].to_vec(),
+            mu: self.mu[i0..i1].to_vec(),
+            source: self.source.clone(),
+        }
+    }
+}
+
+/// A data error naming file, line and column where known.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}{}: {}{message}", line.map(|l| format!(":{l}")).unwrap_or_default(), column.as_ref().map(|c| format!("column `{c}`: ")).unwrap_or_default())]
+pub struct DataError {
+    /// File name.
+    pub file: String,
+    /// 1-based line.
+    pub line: Option<usize>,
+    /// Column name.
+    pub column: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// Minimum number of rows a record must have.
+pub const MIN_ROWS: usize = 10;
+
+/// Reads a record from a file. See [`parse_record`].
+pub fn read_record(path: &Path, opts: &ReadOptions) -> Result<Record, DataError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| DataError {
+        file: name.clone(),
+        line: None,
+        column: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| DataError {
+        file: name.clone(),
+        line: None,
+        column: None,
+        message: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+    })?;
+    parse_record(&text, &name, opts)
+}
+
+fn split_fields(line: &str, delim: Option<char>) -> Vec<&str> {
+    match delim {
+        Some(d) => line.split(d).map(|f| f.trim().trim_matches('"')).collect(),
+        None => line.split_ascii_whitespace().collect(),
+    }
+}
+
+/// Parses a record from text.
+///
+/// * The header is the first line (skipping blank and `#` lines) that names the time column;
+///   lines before it (instrument preamble) are skipped.
+/// * Delimiter: tab if the header has one, else comma, else whitespace.
+/// * Lines between the header and the first numeric row (units, record counts) are skipped.
+/// * Rows with one more field than the header carry a leading row index (xlook exports).
+/// * Missing, non-numeric or non-finite cells, and time that does not strictly increase, are
+///   errors naming the line and column.
+pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record, DataError> {
+    let err = |line: Option<usize>, column: Option<&str>, message: String| DataError {
+        file: file.to_string(),
+        line,
+        column: column.map(str::to_string),
+        message,
+    };
+    let mut lines = text.lines().enumerate().filter(|(_, l)| {
+        let t = l.trim_start();
+        !t.is_empty() && !t.starts_with('#')
+    });
+    // header
+    let mut header: Option<(usize, Vec<&str>, Option<char>)> = None;
+    let mut first_seen: Option<String> = None;
+    for (ln, line) in lines.by_ref().take(200) {
+        let delim = if line.contains('\t') {
+            Some('\t')
+        } else if line.contains(',') {
+            Some(',')
+        } else {
+            None
+        };
+        let fields = split_fields(line, delim);
+        if first_seen.is_none() {
+            first_seen = Some(fields.join(","));
+        }
+        if fields.iter().any(|f| *f == opts.time_col) {
+            header = Some((ln, fields, delim));
+            break;
+        }
+    }
+    let Some((hline, names, delim)) = header else {
+        return Err(err(
+            None,
+            None,
+            format!(
+                "no header line names the time column `{}` (first line: {})",
+                opts.time_col,
+                first_seen.unwrap_or_else(|| "none".into())
+            ),
+        ));
+    };
+    let find = |c: &str| {
+        names
+            .iter()
+            .position(|h| *h == c)
+            .ok_or_else(|| err(Some(hline + 1), Some(c), format!("no such column in the header ({})", names.join(","))))
+    };
+    let ti = find(&opts.time_col)?;
+    let li = find(&opts.lp_col)?;
+    enum Fric {
+        Mu(usize),
+        Shear(usize, Result<usize, f64>),
+    }
+    let fric = match &opts.shear_col {
+        Some(s) => {
+            let si = find(s)?;
+            let norm = match (&opts.normal_col, opts.normal_stress) {
+                (Some(c), _) => Ok(find(c)?),
+                (None, Some(v)) if v > 0.0 && v.is_finite() => Err(v),
+                (None, Some(v)) => return Err(err(None, None, format!("normal stress {v} must be positive"))),
+                (None, None) => {
+                    return Err(err(None, Some(s), "a shear column needs --normal-stress or --normal-col".into()));
+                }
+            };
+            Fric::Shear(si, norm)
+        }
+        None => Fric::Mu(find(&opts.mu_col)?),
+    };
+    let (tf, df) = (opts.time_unit.to_s(), opts.disp_unit.to_um());
+    let mut rec = Record { source: file.to_string(), ..Default::default() };
+    let est = text.len() / 40;
+    rec.time.reserve(est);
+    rec.load_point.reserve(est);
+    rec.mu.reserve(est);
+    let mut offset: Option<usize> = None;
+    let parse = |cells: &[&str], i: usize, col: &str, ln: usize| -> Result<f64, DataError> {
+        let cell = cells.get(i).ok_or_else(|| err(Some(ln + 1), Some(col), "missing".into()))?;
+        let v: f64 = cell.parse().map_err(|_| err(Some(ln + 1), Some(col), format!("`{cell}` is not a number")))?;
+        if !v.is_finite() {
+            return Err(err(Some(ln + 1), Some(col), format!("{v} is not finite")));
+        }
+        Ok(v)
+    };
+    for (ln, line) in lines {
+        let cells = split_fields(line, delim);
+        let off = match offset {
+            Some(o) => o,
+            None => {
+                // units or count lines before the first numeric row are skipped: the first data
+                // row has the header's field count (or one more: a leading index) and numbers
+                // in every column read
+                if cells.len() != names.len() && cells.len() != names.len() + 1 {
+                    continue;
+                }
+                let o = usize::from(cells.len() == names.len() + 1);
+                let needed: Vec<usize> = match &fric {
+                    Fric::Mu(i) => vec![ti, li, *i],
+                    Fric::Shear(si, Ok(ni)) => vec![ti, li, *si, *ni],
+                    Fric::Shear(si, Err(_)) => vec![ti, li, *si],
+                };
+                if needed.iter().any(|&i| parse(&cells, i + o, "", ln).is_err()) {
+                    continue;
+                }
+                offset = Some(o);
+                o
+            }
+        };
+        let t = parse(&cells, ti + off, &opts.time_col, ln)? * tf;
+        let x = parse(&cells, li + off, &opts.lp_col, ln)? * df;
+        let mu = match &fric {
+            Fric::Mu(i) => parse(&cells, i + off, &opts.mu_col, ln)?,
+            Fric::Shear(si, norm) => {
+                let tau = parse(&cells, si + off, opts.shear_col.as_deref().unwrap(), ln)?;
+                let sn = match norm {
+                    Ok(ni) => parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?,
+                    Err(v) => *v,
+                };
+                if !(sn > 0.0) {
+                    return Err(err(
+                        Some(ln + 1),
+                        opts.normal_col.as_deref(),
+                        format!("normal stress {sn} must be positive"),
+                    ));
+                }
+                tau / sn
+            }
+        };
+        if let Some(&prev) = rec.time.last() {
+            if !(t > prev) {
+                return Err(err(
+                    Some(ln + 1),
+                    Some(&opts.time_col),
+                    format!("time {} does not increase (previous {})", t / tf, prev / tf),
+                ));
+            }
+        }
+        if opts.t_min.is_some_and(|a| t < a) || opts.t_max.is_some_and(|b| t > b) {
+            continue;
+        }
+        rec.time.push(t);
+        rec.load_point.push(x);
+        rec.mu.push(mu);
+    }
+    if rec.len() < MIN_ROWS {
+        return Err(err(None, None, format!("{} data rows; at least {MIN_ROWS} are needed", rec.len())));
+    }
+    Ok(rec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn o() -> ReadOptions {
+        ReadOptions::default()
+    }
+    fn rows(n: usize) -> String {
+        (0..n).map(|i| format!("{},{},{}\n", i as f64 * 0.1, i as f64 * 0.3, 0.6)).collect()
+    }
+
+    #[test]
+    fn reads_csv_with_comments_and_units() {
+        let text = format!("# lab run 42\ntime_s,load_point_um,mu\ns,um,-\n{}", rows(20));
+        let r = parse_record(&text, "f.csv", &o()).unwrap();
+        assert_eq!(r.len(), 20);
+        assert_eq!(r.load_point[2], 0.6);
+        let mut mm = o();
+        mm.disp_unit = DispUnit::Mm;
+        mm.time_unit = TimeUnit::Ms;
+        let r = parse_record(&text, "f.csv", &mm).unwrap();
+        assert!((r.load_point[2] - 600.0).abs() < 1e-9 && (r.time[2] - 2e-4).abs() < 1e-15);
+    }
+
+    #[test]
+    fn xlook_style_whitespace_with_index_column_and_preamble() {
+        let mut text = String::from(
+            "number of records = 12\ncol 1 col 2 col 3\nLP_Disp Shr_stress Time mu\nmic MPa sec .\n12 recs 12 recs 12 recs 12 recs\n",
+        );
+        for i in 0..12 {
+            text += &format!("{} {} 5.5 {} 0.69\n", 1000 + i, 4000.0 + i as f64, 2500.0 + i as f64 * 0.02);
+        }
+        let opts = ReadOptions { time_col: "Time".into(), lp_col: "LP_Disp".into(), ..o() };
+        let r = parse_record(&text, "x.txt", &opts).unwrap();
+        assert_eq!(r.len(), 12);
+        assert_eq!(r.time[1], 2500.02);
+        assert_eq!(r.load_point[1], 4001.0);
+        assert_eq!(r.mu[0], 0.69);
+    }
+
+    #[test]
+    fn shear_over_normal_stress() {
+        let text: String =
+            "t,x,tau,sn\n".to_string() + &(0..12).map(|i| format!("{i},{i},5.0,10.0\n")).collect::<String>();
+        let base = ReadOptions { time_col: "t".into(), lp_col: "x".into(), shear_col: Some("tau".into()), ..o() };
+        let r = parse_record(&text, "s.csv", &ReadOptions { normal_col: Some("sn".into()), ..base.clone() }).unwrap();
+        assert_eq!(r.mu[3], 0.5);
+        let r = parse_record(&text, "s.csv", &ReadOptions { normal_stress: Some(20.0), ..base.clone() }).unwrap();
+        assert_eq!(r.mu[3], 0.25);
+        let e = parse_record(&text, "s.csv", &base).unwrap_err().to_string();
+        assert!(e.contains("--normal-stress"), "{e}");
+    }
+
+    #[test]
+    fn bad_input_names_file_line_and_column() {
+        let cases = [
+            (
+                format!("time_s,load_point_um,mu\n{}5.0,x,0.6\n", rows(12)),
+                "f.csv:14: column `load_point_um`: `x` is not a number",
+            ),
+            (format!("time_s,load_point_um,mu\n{}5.0,1,NaN\n", rows(12)), "f.csv:14: column `mu`: NaN is not finite"),
+            (
+                format!("time_s,load_point_um,mu\n{}0.5,1,0.6\n", rows(12)),
+                "f.csv:14: column `time_s`: time 0.5 does not increase",
+            ),
+            (format!("time_s,load_point_um,mu\n{}5.0,1\n", rows(12)), "f.csv:14: column `mu`: missing"),
+            (format!("time_s,lp,mu\n{}", rows(12)), "f.csv:1: column `load_point_um`: no such column"),
+            ("a,b,c\n1,2,3\n".to_string(), "no header line names the time column `time_s`"),
+            (format!("time_s,load_point_um,mu\n{}", rows(3)), "3 data rows; at least 10"),
+        ];
+        for (text, want) in cases {
+            let e = parse_record(&text, "f.csv", &o()).unwrap_err().to_string();
+            assert!(e.contains(want), "`{e}` lacks `{want}`");
+        }
+    }
+}

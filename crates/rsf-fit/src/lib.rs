@@ -1,0 +1,4 @@
+//! # rsf-fit
+
+pub mod data;
+pub mod segment;
