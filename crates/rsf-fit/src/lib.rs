@@ -1,4 +1,8 @@
 //! # rsf-fit
 
 pub mod data;
+pub mod fit;
+pub mod lm;
 pub mod segment;
+pub mod sens;
+pub mod synthetic;
