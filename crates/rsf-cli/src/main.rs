@@ -1,5 +1,6 @@
 //! `rsf` — rate-and-state friction from the command line.
 
+mod fit;
 mod plot;
 
 use anyhow::{Context, Result};
@@ -72,6 +73,9 @@ impl DataArgs {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Fit a rate-and-state model to a measured record (Levenberg-Marquardt with exact
+    /// sensitivities; optional MCMC uncertainties).
+    Fit(Box<FitArgs>),
     /// Detect the loading protocol (segments of constant load-point velocity) of a record.
     Segments {
         /// The record (CSV or whitespace/tab-separated text with a header).
@@ -109,6 +113,74 @@ enum Command {
         #[arg(long)]
         atol: Option<f64>,
     },
+}
+
+#[derive(clap::Args, Debug)]
+struct FitArgs {
+    /// The record (CSV or whitespace/tab-separated text with a header).
+    data: PathBuf,
+    #[command(flatten)]
+    read: DataArgs,
+    /// Evolution law of every state variable: aging, slip, kato-tullis, prz, nagata.
+    #[arg(long, default_value = "slip")]
+    law: String,
+    /// Laws per state, comma-separated (overrides --law and --states), e.g. slip,aging.
+    #[arg(long)]
+    laws: Option<String>,
+    /// Number of state variables (1 to 3).
+    #[arg(long, default_value_t = 1)]
+    states: usize,
+    /// Machine stiffness k = stiffness / normal stress, 1/µm (initial value with --fit-stiffness).
+    #[arg(long)]
+    stiffness: f64,
+    /// Fit the stiffness too.
+    #[arg(long)]
+    fit_stiffness: bool,
+    /// Constraint NAME=VALUE or NAME-NAME=VALUE (repeatable), e.g. a-b=-0.003, dc=10, vc1=0.01.
+    #[arg(long)]
+    fix: Vec<String>,
+    /// Initial value NAME=VALUE (repeatable), overriding the data-derived guess.
+    #[arg(long)]
+    initial: Vec<String>,
+    /// A friction offset per segment (mu0 per segment).
+    #[arg(long)]
+    mu0_per_segment: bool,
+    /// Fit only the first X µm of load-point travel of each segment (holds whole).
+    #[arg(long)]
+    window_um: Option<f64>,
+    /// Sample weights: equal (each segment counts equally) or uniform.
+    #[arg(long, default_value = "equal")]
+    weights: String,
+    /// Forward-model loading: record (measured load-point history) or protocol (detected segments).
+    #[arg(long, default_value = "record")]
+    loading: String,
+    /// Integrator relative tolerance.
+    #[arg(long, default_value_t = 1e-7)]
+    rtol: f64,
+    /// Number of starting points for LM.
+    #[arg(long, default_value_t = 4)]
+    starts: usize,
+    /// Also fit each velocity step on its own (the consistency check across step sizes).
+    #[arg(long)]
+    per_segment: bool,
+    /// Run MCMC with this many samples in total (after the LM fit).
+    #[arg(long)]
+    mcmc: Option<usize>,
+    /// MCMC chains (run in parallel).
+    #[arg(long, default_value_t = 4)]
+    chains: usize,
+    /// Random seed (MCMC).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Segmentation: velocity ratio below which neighbouring segments are one.
+    #[arg(long, default_value_t = 1.3)]
+    min_ratio: f64,
+    /// Write the result as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Write an SVG of data, model and residuals here.
+    #[arg(long)]
+    plot: Option<PathBuf>,
 }
 
 const SIMULATE_HELP: &str = "Simulate a spring-slider protocol described in a TOML file.
@@ -174,6 +246,7 @@ fn write_stdout(text: &str) -> Result<()> {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Fit(args) => fit::run(&args),
         Command::Segments { data, read, json, min_ratio, min_duration } => {
             let rec = read.read(&data)?;
             let opts = rsf_fit::segment::SegmentOptions { min_ratio, min_duration, ..Default::default() };

@@ -62,3 +62,105 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
 }
+
+/// Data, model and residuals of a fit against load-point displacement; segments alternate
+/// in shade.
+pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> {
+    let c = &r.curve;
+    let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    let head = format!(
+        "{title} — {} law(s): a = {:.5}, b = {:?}, Dc = {:?} µm, rms {:.2e}",
+        r.params.laws.join("+"),
+        r.params.a,
+        r.params.b.iter().map(|x| format!("{x:.5}")).collect::<Vec<_>>(),
+        r.params.dc.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>(),
+        r.rms
+    );
+    let root = root.titled(&head, ("sans-serif", 15)).map_err(|e| anyhow!("{e}"))?;
+    let (top, bottom) = root.split_vertically(440);
+    let (x0, x1) = range(c.load_point.iter().copied());
+    let (m0, m1) = range(c.data.iter().chain(&c.model).copied());
+    let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
+    let (r0, r1) = range(res.iter().copied());
+    let shade = |ch: &mut ChartContext<
+        '_,
+        SVGBackend,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+                 lo: f64,
+                 hi: f64|
+     -> Result<()> {
+        for g in &r.segments {
+            if g.index % 2 == 0 {
+                let xs: Vec<f64> =
+                    c.segment.iter().zip(&c.load_point).filter(|(s, _)| **s + 1 == g.index).map(|(_, x)| *x).collect();
+                if let (Some(a), Some(b)) = (xs.first(), xs.last()) {
+                    ch.draw_series(std::iter::once(Rectangle::new(
+                        [(*a, lo), (*b, hi)],
+                        RGBColor(235, 240, 250).filled(),
+                    )))
+                    .map_err(|e| anyhow!("{e}"))?;
+                }
+            }
+        }
+        Ok(())
+    };
+    let mut ch = ChartBuilder::on(&top)
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x0..x1, m0..m1)
+        .map_err(|e| anyhow!("{e}"))?;
+    ch.configure_mesh()
+        .x_desc("load-point displacement (µm)")
+        .y_desc("friction μ")
+        .draw()
+        .map_err(|e| anyhow!("{e}"))?;
+    shade(&mut ch, m0, m1)?;
+    ch.draw_series(
+        c.load_point.iter().zip(&c.data).map(|(&x, &y)| Circle::new((x, y), 1, RGBColor(120, 120, 120).filled())),
+    )
+    .map_err(|e| anyhow!("{e}"))?
+    .label("data")
+    .legend(|(x, y)| Circle::new((x + 10, y), 3, RGBColor(120, 120, 120).filled()));
+    // model drawn per segment so that windows do not join across gaps
+    let mut first = true;
+    for g in &r.segments {
+        let pts: Vec<(f64, f64)> = c
+            .segment
+            .iter()
+            .zip(c.load_point.iter().zip(&c.model))
+            .filter(|(s, _)| **s + 1 == g.index)
+            .map(|(_, (x, m))| (*x, *m))
+            .collect();
+        let s = ch.draw_series(LineSeries::new(pts, RED.stroke_width(2))).map_err(|e| anyhow!("{e}"))?;
+        if first {
+            s.label("model").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+            first = false;
+        }
+    }
+    ch.configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()
+        .map_err(|e| anyhow!("{e}"))?;
+    let mut ch = ChartBuilder::on(&bottom)
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x0..x1, r0..r1)
+        .map_err(|e| anyhow!("{e}"))?;
+    ch.configure_mesh()
+        .x_desc("load-point displacement (µm)")
+        .y_desc("residual (data − model)")
+        .draw()
+        .map_err(|e| anyhow!("{e}"))?;
+    shade(&mut ch, r0, r1)?;
+    ch.draw_series(c.load_point.iter().zip(&res).map(|(&x, &y)| Circle::new((x, y), 1, BLUE.filled())))
+        .map_err(|e| anyhow!("{e}"))?;
+    ch.draw_series(LineSeries::new(vec![(x0, 0.0), (x1, 0.0)], BLACK)).map_err(|e| anyhow!("{e}"))?;
+    root.present().map_err(|e| anyhow!("{e}"))?;
+    Ok(())
+}

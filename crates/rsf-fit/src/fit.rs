@@ -552,21 +552,7 @@ fn evaluate(
     let full = map.full(theta);
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
-    let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();
-    let t0 = p.record.time[0];
-    let (loading, out) = match opts.loading {
-        LoadingMode::Record => (
-            Loading::Record(LoadRecord { time: p.record.time.clone(), load_point: p.record.load_point.clone() }),
-            times,
-        ),
-        LoadingMode::Protocol => {
-            let segs =
-                p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, (s.t1 - s.t0).max(1e-9))).collect();
-            (Loading::Segments(segs), times.iter().map(|t| (t - t0).max(0.0)).collect())
-        }
-    };
-    let mut problem = Problem::new(model, loading, p.v_init, 1.0);
-    problem.output = OutputTimes::Times(out);
+    let problem = forward_problem(p, opts, model);
     let s = solve_with_sensitivities(&problem, rtol, rtol * 1e-4)?;
     let m = map.free.len();
     let dfull = map.jac(theta);
@@ -590,6 +576,51 @@ fn evaluate(
         }
     }
     Ok(Evaluated { model_mu, raw_j })
+}
+
+/// Model friction at the used samples for free parameters θ (no sensitivities): the forward
+/// model of MCMC and of predictions.
+pub fn model_curve(
+    p: &Prepared,
+    map: &ParamMap,
+    opts: &FitOptions,
+    theta: &[f64],
+    rtol: f64,
+) -> Result<Vec<f64>, SolveError> {
+    let full = map.full(theta);
+    let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
+    let np = n_params(map.n_states);
+    let problem = forward_problem(p, opts, model);
+    let sol = rsf_solvers::solve(&problem, &rsf_solvers::Dopri5::new(rtol, rtol * 1e-4))?;
+    let mut mu = sol.mu;
+    if map.slots.len() > np {
+        for (r, &seg) in p.seg_of.iter().enumerate() {
+            if seg > 0 {
+                mu[r] += full[np + seg - 1];
+            }
+        }
+    }
+    Ok(mu)
+}
+
+/// The forward problem of a fit for `model`: loading and output at the used samples.
+fn forward_problem(p: &Prepared, opts: &FitOptions, model: Model) -> Problem {
+    let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();
+    let t0 = p.record.time[0];
+    let (loading, out) = match opts.loading {
+        LoadingMode::Record => (
+            Loading::Record(LoadRecord { time: p.record.time.clone(), load_point: p.record.load_point.clone() }),
+            times,
+        ),
+        LoadingMode::Protocol => {
+            let segs =
+                p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, (s.t1 - s.t0).max(1e-9))).collect();
+            (Loading::Segments(segs), times.iter().map(|t| (t - t0).max(0.0)).collect())
+        }
+    };
+    let mut problem = Problem::new(model, loading, p.v_init, 1.0);
+    problem.output = OutputTimes::Times(out);
+    problem
 }
 
 /// Fits the model to the prepared record.

@@ -3,6 +3,7 @@
 pub mod data;
 pub mod fit;
 pub mod lm;
+pub mod mcmc;
 pub mod segment;
 pub mod sens;
 pub mod synthetic;

@@ -1,0 +1,236 @@
+//! `rsf fit`.
+
+use crate::FitArgs;
+use anyhow::{Context, Result, bail};
+use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, Weighting, fit, prepare};
+use rsf_fit::segment::{SegmentKind, SegmentOptions, detect};
+use serde::Serialize;
+use std::time::Instant;
+
+#[derive(Serialize)]
+struct PerSegment {
+    segment: usize,
+    kind: SegmentKind,
+    v_before: f64,
+    v_after: f64,
+    a: f64,
+    b: Vec<f64>,
+    dc: Vec<f64>,
+    k: f64,
+    rms: f64,
+    n: usize,
+}
+
+#[derive(Serialize)]
+struct Output<'a> {
+    data: String,
+    #[serde(flatten)]
+    fit: &'a FitResult,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mcmc: Option<rsf_fit::mcmc::McmcResult>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    per_segment: Vec<PerSegment>,
+    wall_s: f64,
+}
+
+pub fn options(a: &FitArgs) -> Result<FitOptions> {
+    let names: Vec<String> = match &a.laws {
+        Some(l) => l.split(',').map(|s| s.trim().to_string()).collect(),
+        None => vec![a.law.clone(); a.states],
+    };
+    if names.is_empty() || names.len() > 3 {
+        bail!("1 to 3 state variables are supported by the fitter (got {})", names.len());
+    }
+    let laws = names
+        .iter()
+        .map(|n| rsf_laws::law_by_name(n, |p| Some(if p == "vc" { 0.01 } else { 1.0 })).map_err(anyhow::Error::msg))
+        .collect::<Result<Vec<_>>>()?;
+    if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
+        bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
+    }
+    let mut o = FitOptions::new(laws, a.stiffness);
+    o.fit_stiffness = a.fit_stiffness;
+    o.fix = a.fix.clone();
+    o.mu0_per_segment = a.mu0_per_segment;
+    o.window_um = a.window_um;
+    o.weighting = match a.weights.as_str() {
+        "equal" => Weighting::EqualSegments,
+        "uniform" => Weighting::Uniform,
+        w => bail!("--weights `{w}`: use equal or uniform"),
+    };
+    o.loading = match a.loading.as_str() {
+        "record" => LoadingMode::Record,
+        "protocol" => LoadingMode::Protocol,
+        l => bail!("--loading `{l}`: use record or protocol"),
+    };
+    o.rtol = a.rtol;
+    o.starts = a.starts;
+    for i in &a.initial {
+        let (n, v) = i.split_once('=').with_context(|| format!("--initial `{i}`: expected NAME=VALUE"))?;
+        o.initial.push((n.trim().into(), v.trim().parse().with_context(|| format!("--initial `{i}`"))?));
+    }
+    Ok(o)
+}
+
+pub fn run(a: &FitArgs) -> Result<()> {
+    let start = Instant::now();
+    let rec = a.read.read(&a.data)?;
+    let opts = options(a)?;
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions { min_ratio: a.min_ratio, ..Default::default() });
+    let prep = prepare(&rec, &segs, &opts)?;
+    eprintln!(
+        "rsf fit: {} samples, {} segments, {} used; laws {:?}",
+        rec.len(),
+        prep.segments.len(),
+        prep.used.len(),
+        opts.laws.iter().map(|l| l.name()).collect::<Vec<_>>()
+    );
+    let res = fit(&prep, &opts)?;
+    let mut per_segment = vec![];
+    if a.per_segment {
+        per_segment = per_segment_fits(&prep, &opts)?;
+    }
+    let mcmc = match a.mcmc {
+        Some(n) => {
+            let m = rsf_fit::mcmc::McmcOptions { samples: n, chains: a.chains, seed: a.seed, ..Default::default() };
+            Some(rsf_fit::mcmc::run(&prep, &opts, &res, &m).map_err(anyhow::Error::msg)?)
+        }
+        None => None,
+    };
+    let wall = start.elapsed().as_secs_f64();
+    print!("{}", summary(&res, mcmc.as_ref(), &per_segment));
+    eprintln!("rsf fit: {:.2} s", wall);
+    if let Some(p) = &a.plot {
+        crate::plot::fit(&res, p, &a.data.display().to_string()).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if let Some(j) = &a.json {
+        let out = Output { data: a.data.display().to_string(), fit: &res, mcmc, per_segment, wall_s: wall };
+        std::fs::write(j, serde_json::to_string_pretty(&out)? + "\n")
+            .with_context(|| format!("writing {}", j.display()))?;
+    }
+    Ok(())
+}
+
+/// Each velocity step fitted alone: the end of the segment before it and the step segment.
+fn per_segment_fits(prep: &rsf_fit::fit::Prepared, opts: &FitOptions) -> Result<Vec<PerSegment>> {
+    let mut out = vec![];
+    for k in 1..prep.segments.len() {
+        let (s0, s1) = (&prep.segments[k - 1], &prep.segments[k]);
+        if !(s0.v > 0.0 && s1.v > 0.0) {
+            continue;
+        }
+        // the last quarter of the previous segment and the whole step segment
+        let i0 = s0.i1 - (s0.i1 - s0.i0) / 4;
+        let rec = prep.record.window(prep.record.time[i0], prep.record.time[s1.i1]);
+        let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+        let mut o = opts.clone();
+        o.mu0_per_segment = false;
+        let Ok(p) = prepare(&rec, &segs, &o) else { continue };
+        match fit(&p, &o) {
+            Ok(r) => out.push(PerSegment {
+                segment: k + 1,
+                kind: s1.kind,
+                v_before: s0.v,
+                v_after: s1.v,
+                a: r.params.a,
+                b: r.params.b.clone(),
+                dc: r.params.dc.clone(),
+                k: r.params.k,
+                rms: r.rms,
+                n: r.n,
+            }),
+            Err(e) => eprintln!("rsf fit: segment {} not fitted alone: {e}", k + 1),
+        }
+    }
+    Ok(out)
+}
+
+fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSegment]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let p = &r.params;
+    let _ = writeln!(s, "laws: {}   v0 = {:.6} µm/s   k = {:.6e} /µm", p.laws.join(", "), p.v0, p.k);
+    let _ = writeln!(s, "{:>10} {:>14} {:>14} {:>28}", "param", "value", "stderr", "95% interval (linearised)");
+    let mut row = |name: &str, v: f64| {
+        let se = r.stderr.get(name).copied();
+        let ci = r.ci95.get(name);
+        let _ = writeln!(
+            s,
+            "{:>10} {:>14.6e} {:>14} {:>28}",
+            name,
+            v,
+            se.map(|x| format!("{x:.3e}")).unwrap_or_else(|| "fixed".into()),
+            ci.map(|c| format!("[{:.5e}, {:.5e}]", c[0], c[1])).unwrap_or_default()
+        );
+    };
+    row("mu0", p.mu0);
+    row("a", p.a);
+    for i in 0..p.b.len() {
+        row(&format!("b{}", i + 1), p.b[i]);
+        row(&format!("dc{}", i + 1), p.dc[i]);
+    }
+    for (k, v) in &p.law_params {
+        row(k, *v);
+    }
+    row("k", p.k);
+    let _ = writeln!(
+        s,
+        "rms {:.3e}  n {}  free {}  logL {:.1}  AIC {:.1}  BIC {:.1}  ({} LM iterations: {})",
+        r.rms, r.n, r.n_free, r.log_likelihood, r.aic, r.bic, r.iterations, r.stop_reason
+    );
+    if let Some(m) = mcmc {
+        let _ = writeln!(
+            s,
+            "MCMC: {} chains × {} steps, acceptance {:.2}, {:.0} simulations/s",
+            m.chains, m.steps_per_chain, m.acceptance, m.simulations_per_s
+        );
+        let _ = writeln!(s, "{:>10} {:>14} {:>30} {:>8} {:>8}", "param", "median", "95% credible", "R-hat", "ESS");
+        for (k, v) in &m.params {
+            let _ = writeln!(
+                s,
+                "{:>10} {:>14.6e} {:>30} {:>8.3} {:>8.0}",
+                k,
+                v.median,
+                format!("[{:.5e}, {:.5e}]", v.ci95[0], v.ci95[1]),
+                v.rhat,
+                v.ess
+            );
+        }
+    }
+    if !per.is_empty() {
+        let _ = writeln!(
+            s,
+            "per-step fits:\\n{:>4} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9}",
+            "seg", "kind", "V_i", "V_f", "a", "b1", "dc1", "rms"
+        );
+        for x in per {
+            let _ = writeln!(
+                s,
+                "{:>4} {:>10} {:>9.4} {:>9.4} {:>10.5} {:>10.5} {:>9.3} {:>9.2e}",
+                x.segment,
+                x.kind.name(),
+                x.v_before,
+                x.v_after,
+                x.a,
+                x.b[0],
+                x.dc[0],
+                x.rms
+            );
+        }
+    }
+    let _ = writeln!(s, "segments:");
+    for g in &r.segments {
+        let _ = writeln!(
+            s,
+            "{:>4} {:>10} t {:>10.2}–{:<10.2} v {:>10.5} µm/s  n {:>6}  rms {:.2e}",
+            g.index,
+            g.kind.name(),
+            g.t0,
+            g.t1,
+            g.v,
+            g.n,
+            g.rms
+        );
+    }
+    s
+}
