@@ -86,6 +86,26 @@ pub fn run(a: &FitArgs) -> Result<()> {
         opts.laws.iter().map(|l| l.name()).collect::<Vec<_>>()
     );
     let res = fit(&prep, &opts)?;
+    if opts.loading == LoadingMode::Record {
+        // load-point noise drives a record-driven model: k σ_lp of friction noise
+        let (mut ss, mut n) = (0.0, 0usize);
+        for s in &prep.segments {
+            let (t, x) = (&prep.record.time[s.i0..=s.i1], &prep.record.load_point[s.i0..=s.i1]);
+            for (ti, xi) in t.iter().zip(x) {
+                ss += (xi - (s.lp0 + s.v * (ti - s.t0))).powi(2);
+                n += 1;
+            }
+        }
+        let sigma_lp = (ss / n.max(1) as f64).sqrt();
+        if res.params.k * sigma_lp > 0.3 * res.rms {
+            eprintln!(
+                "rsf fit: warning: the load-point record scatters by {sigma_lp:.3} µm about its segments, which drives \
+                 k·σ = {:.2e} of friction noise into the record-driven model (fit rms {:.2e}); consider --loading protocol",
+                res.params.k * sigma_lp,
+                res.rms
+            );
+        }
+    }
     let mut per_segment = vec![];
     if a.per_segment {
         per_segment = per_segment_fits(&prep, &opts)?;

@@ -688,7 +688,14 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
             }
         }
     }
-    let hinv = h.clone().try_inverse().unwrap_or_else(|| nalgebra::DMatrix::from_element(m, m, f64::NAN));
+    // invert with column scaling (entries differ by many orders of magnitude) and an SVD
+    // pseudo-inverse, so an unidentified direction shows as a huge variance, not a tiny one
+    let dsc: Vec<f64> = (0..m).map(|k| h[(k, k)].sqrt().max(1e-300)).collect();
+    let hs = nalgebra::DMatrix::from_fn(m, m, |a, b| h[(a, b)] / (dsc[a] * dsc[b]));
+    let svd = hs.svd(true, true);
+    let smax = svd.singular_values.max();
+    let hsinv = svd.pseudo_inverse(1e-12 * smax).unwrap_or_else(|_| nalgebra::DMatrix::from_element(m, m, f64::NAN));
+    let hinv = nalgebra::DMatrix::from_fn(m, m, |a, b| hsinv[(a, b)] / (dsc[a] * dsc[b]));
     let cov = (&hinv * g * &hinv) * s2;
     let full = map.full(&best.theta);
     let names = map.free_names();
