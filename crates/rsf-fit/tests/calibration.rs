@@ -3,11 +3,11 @@
 //! (covariance) intervals of the LM fit and the MCMC credible intervals.
 
 use rsf_core::{Model, StateVariable};
-use rsf_fit::fit::{fit, prepare, FitOptions, LoadingMode};
+use rsf_fit::fit::{FitOptions, LoadingMode, fit, prepare};
 use rsf_fit::mcmc::{self, McmcOptions};
-use rsf_fit::segment::{detect, SegmentOptions};
-use rsf_fit::synthetic::{record, Noise};
-use rsf_laws::{law_by_name, Slip};
+use rsf_fit::segment::{SegmentOptions, detect};
+use rsf_fit::synthetic::{Noise, record};
+use rsf_laws::{Slip, law_by_name};
 
 #[test]
 fn intervals_cover_the_truth_at_their_nominal_rate() {
@@ -35,7 +35,9 @@ fn intervals_cover_the_truth_at_their_nominal_rate() {
         }
     }
     let (lm_rate, mc_rate) = (lm_hits as f64 / total as f64, mc_hits as f64 / total as f64);
-    println!("coverage of 95% intervals over {trials} trials × 3 parameters: LM {lm_rate:.3}, MCMC {mc_rate:.3}; max R-hat {rhat_max:.3}");
+    println!(
+        "coverage of 95% intervals over {trials} trials × 3 parameters: LM {lm_rate:.3}, MCMC {mc_rate:.3}; max R-hat {rhat_max:.3}"
+    );
     // 72 intervals at 95%: a binomial 99% range is about 0.85–1.0
     assert!((0.85..=1.0).contains(&lm_rate), "LM coverage {lm_rate}");
     assert!((0.85..=1.0).contains(&mc_rate), "MCMC coverage {mc_rate}");
