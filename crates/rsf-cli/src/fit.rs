@@ -74,8 +74,8 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
 
 pub fn run(a: &FitArgs) -> Result<()> {
     let start = Instant::now();
-    let rec = a.read.read(&a.data)?;
     let opts = options(a)?;
+    let rec = a.read.read(&a.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions { min_ratio: a.min_ratio, ..Default::default() });
     let prep = prepare(&rec, &segs, &opts)?;
     eprintln!(

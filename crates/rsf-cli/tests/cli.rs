@@ -119,3 +119,110 @@ fn help_documents_every_field() {
         assert!(h.contains(f), "--help lacks `{f}`");
     }
 }
+
+const BASALT: &str = "examples/data/giacomel-basalt/velstep4_BRAVA_expb819_basalt.txt";
+
+fn fit_args() -> Vec<String> {
+    [
+        "fit",
+        repo().join(BASALT).to_str().unwrap(),
+        "--time-col",
+        "Time(s)",
+        "--lp-col",
+        "Displ(microns)",
+        "--mu-col",
+        "Friction",
+        "--law",
+        "slip",
+        "--stiffness",
+        "0.0151",
+        "--fit-stiffness",
+        "--loading",
+        "protocol",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect()
+}
+
+#[test]
+fn fit_writes_the_specified_json_and_plot() {
+    let (json, svg) = (tmp("fit.json"), tmp("fit.svg"));
+    let out = rsf()
+        .args(fit_args())
+        .args(["--mcmc", "2000", "--chains", "2", "--seed", "5", "--per-segment", "--json"])
+        .arg(&json)
+        .arg("--plot")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let p = &v["params"];
+    for key in ["mu0", "a", "k"] {
+        assert!(p[key].as_f64().is_some(), "params.{key}");
+    }
+    assert_eq!(p["b"].as_array().unwrap().len(), 1);
+    assert_eq!(p["dc"].as_array().unwrap().len(), 1);
+    for free in ["mu0", "a", "b1", "dc1", "k"] {
+        let ci = v["ci95"][free].as_array().unwrap_or_else(|| panic!("ci95.{free}"));
+        assert!(ci[0].as_f64().unwrap() < ci[1].as_f64().unwrap());
+    }
+    for key in ["rms", "n", "log_likelihood", "aic", "bic"] {
+        assert!(v[key].as_f64().is_some(), "{key}");
+    }
+    assert_eq!(v["segments"].as_array().unwrap().len(), 2);
+    assert!(v["mcmc"]["params"]["a"]["rhat"].as_f64().is_some());
+    assert!(!v["per_segment"].as_array().unwrap().is_empty());
+    // a and Dc near the record's values (see docs/fit.md); the fit is reproducible
+    let a = p["a"].as_f64().unwrap();
+    assert!((0.008..0.012).contains(&a), "a = {a}");
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg.contains("residual"));
+    let again = rsf()
+        .args(fit_args())
+        .args(["--mcmc", "2000", "--chains", "2", "--seed", "5", "--json"])
+        .arg(tmp("fit2.json"))
+        .output()
+        .unwrap();
+    assert!(again.status.success());
+    let w: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(tmp("fit2.json")).unwrap()).unwrap();
+    assert_eq!(
+        v["mcmc"]["params"]["a"]["median"], w["mcmc"]["params"]["a"]["median"],
+        "--seed makes MCMC reproducible"
+    );
+}
+
+#[test]
+fn fit_errors_are_named() {
+    let run = |extra: &[&str]| {
+        let out = rsf().args(fit_args()).args(extra).output().unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    assert!(run(&["--fix", "a-q=1"]).contains("unknown parameter `q`"));
+    assert!(run(&["--fix", "a-b=x"]).contains("`x` is not a number"));
+    let args: Vec<String> = fit_args().into_iter().map(|a| if a == "slip" { "dieterich".into() } else { a }).collect();
+    let out = rsf().args(args).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown law `dieterich`"));
+    let out = rsf().args(["fit", repo().join(BASALT).to_str().unwrap(), "--stiffness=-1"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--stiffness -1 must be positive"));
+    assert!(run(&["--weights", "heavy"]).contains("--weights `heavy`"));
+    let out = rsf().args(["fit", "/nonexistent.csv", "--stiffness", "0.01"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
+    let bad = tmp("bad.csv");
+    std::fs::write(&bad, "time_s,load_point_um,mu\n0,0,0.6\n1,1,0.6\n1,2,0.6\n").unwrap();
+    let out = rsf().args(["fit", bad.to_str().unwrap(), "--stiffness", "0.01"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.csv:4: column `time_s`: time 1 does not increase"));
+}
+
+#[test]
+fn fixing_a_minus_b_holds_the_difference() {
+    let json = tmp("fix.json");
+    let out = rsf().args(fit_args()).args(["--fix", "a-b=0.0005", "--json"]).arg(&json).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let (a, b) = (v["params"]["a"].as_f64().unwrap(), v["params"]["b"][0].as_f64().unwrap());
+    assert!((a - b - 0.0005).abs() < 1e-12, "a − b = {}", a - b);
+    assert_eq!(v["n_free"].as_u64(), Some(4));
+}

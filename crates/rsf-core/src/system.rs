@@ -175,7 +175,7 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
     match base {
         "b" => Some(off),
         "dc" => Some(off + 1),
-        "q" => Some(off + 2),
+        "q" if !model.states[i - 1].law.parameters().is_empty() => Some(off + 2),
         other => {
             let own = model.states[i - 1].law.parameters();
             if own.first().map(|p| p.0) == Some(other) { Some(off + 2) } else { None }

@@ -484,10 +484,21 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         }
         m
     };
+    let known: Vec<&String> = names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !(*i >= 3 && *i < np && (i - 3) % 3 == 2 && opts.laws[(i - 3) / 3].parameters().is_empty()))
+        .map(|(_, n)| n)
+        .collect();
     let index = |name: &str| -> Result<usize, FitError> {
-        param_index(&tmp_model, name)
-            .or_else(|| names.iter().position(|x| x == name))
-            .ok_or_else(|| FitError::Setup(format!("unknown parameter `{name}` (known: {})", names.join(", "))))
+        param_index(&tmp_model, name).or_else(|| names.iter().position(|x| x == name && known.contains(&x))).ok_or_else(
+            || {
+                FitError::Setup(format!(
+                    "unknown parameter `{name}` (known: {})",
+                    known.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                ))
+            },
+        )
     };
     for (name, v) in &opts.initial {
         base[index(name)?] = *v;

@@ -355,10 +355,17 @@ fn consolidate(
             }
             let tiny = |k: usize| {
                 let few = (segs[k].1.n as usize) < opts.min_samples || dur(k, segs) < opts.min_duration;
-                let transient = k > 0
-                    && k + 1 < segs.len()
-                    && (segs[k].1.n as usize) < 4 * opts.min_samples
-                    && dur(k, segs) < 0.2 * dur(k - 1, segs).min(dur(k + 1, segs));
+                let inner = k > 0 && k + 1 < segs.len();
+                let shortest_nb = if inner { dur(k - 1, segs).min(dur(k + 1, segs)) } else { 0.0 };
+                let (vp, v, vn) = if inner {
+                    (segs[k - 1].1.slope(), segs[k].1.slope(), segs[k + 1].1.slope())
+                } else {
+                    (0.0, 0.0, 0.0)
+                };
+                // a short transition (servo ramp) with a velocity between its neighbours'
+                let ramp = inner && (v - vp) * (vn - v) > 0.0 && dur(k, segs) < 0.02 * shortest_nb;
+                let transient = inner
+                    && ((segs[k].1.n as usize) < 4 * opts.min_samples && dur(k, segs) < 0.2 * shortest_nb || ramp);
                 few || transient
             };
             let Some(k) = (0..segs.len()).filter(|&k| tiny(k)).min_by(|&a, &b| dur(a, segs).total_cmp(&dur(b, segs)))
