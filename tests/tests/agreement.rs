@@ -90,3 +90,16 @@ fn radiation_damping_gives_stick_slip_instead_of_blow_up() {
     let avg = i.slip.last().unwrap() / i.time.last().unwrap();
     assert!((avg - 1.0).abs() < 0.2, "average slip rate {avg}");
 }
+
+/// The lean friction-only path gives exactly the friction column of the full solve.
+#[test]
+fn friction_only_path_equals_the_full_solution() {
+    for (name, m) in cases() {
+        let p = problem(m, 1.0, &PROTOCOL, 0.5);
+        let full = solve(&p, &Dopri5::new(1e-9, 1e-12)).unwrap();
+        let (mu, stats) = rsf_solvers::solve_friction(&p, &Dopri5::new(1e-9, 1e-12)).unwrap();
+        assert_eq!(stats, full.stats, "{name}");
+        let d = mu.iter().zip(&full.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(d < 1e-13, "{name}: {d:e}");
+    }
+}

@@ -147,8 +147,10 @@ impl Loading {
                 for (t, x) in r.time.windows(2).zip(r.load_point.windows(2)) {
                     let v = (x[1] - x[0]) / (t[1] - t[0]);
                     if let Some(last) = out.last_mut() {
-                        if (v - last.v).abs() <= 1e-12 * v.abs().max(last.v.abs())
-                            && (last.load_point(t[1]) - x[1]).abs() <= 1e-12 * x[1].abs().max(1.0)
+                        // equal to round-off of the recorded numbers, and the merged line still
+                        // passes through this sample to 1e-10 of its value
+                        if (v - last.v).abs() <= 1e-9 * v.abs().max(last.v.abs())
+                            && (last.load_point(t[1]) - x[1]).abs() <= 1e-10 * x[1].abs().max(1.0)
                         {
                             last.t1 = t[1];
                             continue;

@@ -602,8 +602,7 @@ pub fn model_curve(
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
-    let sol = rsf_solvers::solve(&problem, &rsf_solvers::Dopri5::new(rtol, rtol * 1e-4))?;
-    let mut mu = sol.mu;
+    let (mut mu, _) = rsf_solvers::solve_friction(&problem, &rsf_solvers::Dopri5::new(rtol, rtol * 1e-4))?;
     if map.slots.len() > np {
         for (r, &seg) in p.seg_of.iter().enumerate() {
             if seg > 0 {

@@ -20,7 +20,7 @@ mod solve;
 pub use dopri5::Dopri5;
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 pub use rodas4::Rodas4;
-pub use solve::{MAX_STATES, OutputTimes, Problem, Solution, SolveError, drive, output_times, solve};
+pub use solve::{MAX_STATES, OutputTimes, Problem, Solution, SolveError, drive, output_times, solve, solve_friction};
 
 /// The two built-in methods, for run-time selection (e.g. from a protocol file).
 #[derive(Clone, Copy, Debug)]

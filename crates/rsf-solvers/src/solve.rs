@@ -444,3 +444,62 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
     }
     Ok(y)
 }
+
+/// Friction only (the spring stress at the output times): the lean path for likelihoods and
+/// misfits, which need nothing else. Same integration as [`solve`]; the stress is evaluated
+/// as a precomputed linear form in (ln V, ln θ_i) for the classic friction law.
+pub fn solve_friction<I: Integrator>(problem: &Problem, alg: &I) -> Result<(Vec<f64>, StepStats), SolveError> {
+    let n = problem.model.n_states();
+    macro_rules! dispatch {
+        ($($n:literal => $d:literal),*) => {
+            match n {
+                $($n => friction_dim::<$d, I>(problem, alg),)*
+                0 => Err(SolveError::Model(ModelError::NoState)),
+                _ => Err(SolveError::Input(format!("{n} state variables: this build supports at most {MAX_STATES}"))),
+            }
+        };
+    }
+    dispatch!(1 => 3, 2 => 4, 3 => 5, 4 => 6, 5 => 7, 6 => 8, 7 => 9, 8 => 10)
+}
+
+fn friction_dim<const D: usize, I: Integrator>(
+    problem: &Problem,
+    alg: &I,
+) -> Result<(Vec<f64>, StepStats), SolveError> {
+    let model = &problem.model;
+    model.validate()?;
+    let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
+    let t_out = output_times(problem, &pieces)?;
+    let y = SVector::<f64, D>::from_column_slice(&SpringSlider::steady_state(model, problem.v_init)?);
+    let ln_v_max = problem.max_slip_rate.ln();
+    let classic = model.form == rsf_core::FrictionForm::Classic;
+    // τ = c + a x + Σ b_i z_i + η e^x
+    let lv0 = model.v0.ln();
+    let c = model.mu0 - model.a * lv0
+        + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
+    let b: Vec<f64> = model.states.iter().map(|s| s.b).collect();
+    let mut mu = Vec::with_capacity(t_out.len());
+    let mut stats = StepStats::default();
+    drive(
+        model,
+        &pieces,
+        &t_out,
+        y,
+        alg,
+        |sys| SliderOde::<D> { sys, ln_v_max },
+        problem.max_slip_rate,
+        &mut stats,
+        |piece, _, y| {
+            mu.push(if classic {
+                let mut t = c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
+                if model.eta != 0.0 {
+                    t += model.eta * y[0].exp();
+                }
+                t
+            } else {
+                SpringSlider::new(model, piece.v).stress(y.as_slice())
+            })
+        },
+    )?;
+    Ok((mu, stats))
+}
