@@ -352,6 +352,13 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
     };
     let segs: Vec<Segment> =
         segments[first..].iter().map(|s| Segment { i0: s.i0 - i_start, i1: s.i1 - i_start, ..s.clone() }).collect();
+    if segs.len() < 2 {
+        return Err(FitError::Setup(
+            "the record is one segment of constant load-point velocity: a, b and Dc cannot be told apart \
+             without a velocity change (a step or a hold); include data before and after a change"
+                .into(),
+        ));
+    }
     let mut used = Vec::new();
     let mut seg_of = Vec::new();
     for (k, s) in segs.iter().enumerate() {
@@ -553,6 +560,28 @@ struct Evaluated {
     raw_j: Vec<f64>, // ∂model/∂θ, row-major n × m
 }
 
+/// Physical bounds of each full-vector entry: outside them a trial point is rejected (so LM
+/// cannot wander into regions where the model means nothing and integrates slowly).
+fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
+    let np = n_params(map.n_states);
+    for (i, &v) in full.iter().enumerate().take(np) {
+        let (lo, hi) = match i {
+            0 => (-10.0, 10.0),
+            1 => (1e-7, 1.0),
+            2 => (1e-9, 1e4),
+            _ => match (i - 3) % 3 {
+                0 => (-1.0, 1.0),
+                1 => (1e-4, 1e7),
+                _ => (-1e9, 1e9),
+            },
+        };
+        if !(v >= lo && v <= hi) {
+            return Err(format!("`{}` = {v:e} is outside its physical range [{lo:e}, {hi:e}]", map.names[i]));
+        }
+    }
+    Ok(())
+}
+
 fn evaluate(
     p: &Prepared,
     map: &ParamMap,
@@ -561,6 +590,7 @@ fn evaluate(
     rtol: f64,
 ) -> Result<Evaluated, SolveError> {
     let full = map.full(theta);
+    within_bounds(map, &full).map_err(SolveError::Input)?;
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
@@ -599,6 +629,7 @@ pub fn model_curve(
     rtol: f64,
 ) -> Result<Vec<f64>, SolveError> {
     let full = map.full(theta);
+    within_bounds(map, &full).map_err(SolveError::Input)?;
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
