@@ -198,6 +198,14 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSe
         "rms {:.3e}  n {}  free {}  logL {:.1}  AIC {:.1}  BIC {:.1}  ({} LM iterations: {})",
         r.rms, r.n, r.n_free, r.log_likelihood, r.aic, r.bic, r.iterations, r.stop_reason
     );
+    if !r.at_bound.is_empty() {
+        let _ = writeln!(
+            s,
+            "note: {} ended at a physical bound: the data do not constrain {} (the model may be missing an effect; see rsf diagnose)",
+            r.at_bound.join(", "),
+            if r.at_bound.len() == 1 { "it" } else { "them" }
+        );
+    }
     if let Some(m) = mcmc {
         let _ = writeln!(
             s,

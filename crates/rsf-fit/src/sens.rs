@@ -119,7 +119,7 @@ fn run<const D: usize, const P: usize, const DA: usize>(
         stats: StepStats::default(),
     };
     let (mut gy, mut gp) = ([0.0; D], [0.0; P]);
-    let alg = Dopri5::new(rtol, atol);
+    let alg = Dopri5 { max_steps: crate::fit::FIT_MAX_STEPS, ..Dopri5::new(rtol, atol) };
     let ln_v_max = problem.max_slip_rate.ln();
     let mut stats = StepStats::default();
     drive(
