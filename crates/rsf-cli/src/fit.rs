@@ -76,7 +76,16 @@ pub fn run(a: &FitArgs) -> Result<()> {
     let start = Instant::now();
     let opts = options(a)?;
     let rec = a.read.read(&a.data)?;
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions { min_ratio: a.min_ratio, ..Default::default() });
+    let segs = match &a.segments {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+            let specs: Vec<rsf_fit::segment::SegmentSpec> = serde_json::from_str(&text)
+                .with_context(|| format!("{}: expected a JSON array of {{t0, t1, v}}", path.display()))?;
+            rsf_fit::segment::from_specs(&rec.time, &rec.load_point, &specs)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+        }
+        None => detect(&rec.time, &rec.load_point, &SegmentOptions { min_ratio: a.min_ratio, ..Default::default() }),
+    };
     let prep = prepare(&rec, &segs, &opts)?;
     eprintln!(
         "rsf fit: {} samples, {} segments, {} used; laws {:?}",

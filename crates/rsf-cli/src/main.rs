@@ -175,6 +175,10 @@ struct FitArgs {
     /// Segmentation: velocity ratio below which neighbouring segments are one.
     #[arg(long, default_value_t = 1.3)]
     min_ratio: f64,
+    /// Use these segments instead of detecting them: a JSON array of {"t0", "t1", "v"} (as printed
+    /// by `rsf segments --json`, possibly edited).
+    #[arg(long)]
+    segments: Option<PathBuf>,
     /// Write the result as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,

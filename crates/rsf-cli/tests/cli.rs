@@ -226,3 +226,33 @@ fn fixing_a_minus_b_holds_the_difference() {
     assert!((a - b - 0.0005).abs() < 1e-12, "a − b = {}", a - b);
     assert_eq!(v["n_free"].as_u64(), Some(4));
 }
+
+#[test]
+fn a_segments_file_overrides_detection() {
+    let seg = tmp("segs.json");
+    let out = rsf()
+        .args([
+            "segments",
+            repo().join(BASALT).to_str().unwrap(),
+            "--time-col",
+            "Time(s)",
+            "--lp-col",
+            "Displ(microns)",
+            "--mu-col",
+            "Friction",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    std::fs::write(&seg, &out.stdout).unwrap();
+    let json = tmp("segfit.json");
+    let out = rsf().args(fit_args()).arg("--segments").arg(&seg).arg("--json").arg(&json).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["segments"].as_array().unwrap().len(), 2);
+    // a broken file is named
+    std::fs::write(&seg, r#"[{"t0": 11700, "t1": 11600, "v": 3}]"#).unwrap();
+    let out = rsf().args(fit_args()).arg("--segments").arg(&seg).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("segment 1: needs t1 > t0"));
+}

@@ -155,22 +155,38 @@ pub struct DataError {
 /// Minimum number of rows a record must have.
 pub const MIN_ROWS: usize = 10;
 
-/// Reads a record from a file. See [`parse_record`].
+/// Reads a record from a file, streaming it line by line (memory stays near the size of the
+/// numbers kept). See [`parse_record`] for the format rules.
 pub fn read_record(path: &Path, opts: &ReadOptions) -> Result<Record, DataError> {
+    use std::io::BufRead;
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| DataError {
+    let io_err = |e: std::io::Error| DataError {
         file: name.clone(),
         line: None,
         column: None,
         message: format!("cannot read: {e}"),
-    })?;
-    let text = String::from_utf8(bytes).map_err(|e| DataError {
-        file: name.clone(),
-        line: None,
-        column: None,
-        message: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
-    })?;
-    parse_record(&text, &name, opts)
+    };
+    let f = std::fs::File::open(path).map_err(io_err)?;
+    let size = f.metadata().map(|m| m.len() as usize).unwrap_or(0);
+    let mut rd = std::io::BufReader::with_capacity(1 << 20, f);
+    let mut buf = String::new();
+    let mut err = None;
+    let lines = std::iter::from_fn(|| {
+        buf.clear();
+        match rd.read_line(&mut buf) {
+            Ok(0) => None,
+            Ok(_) => Some(buf.trim_end_matches(['\n', '\r']).to_string()),
+            Err(e) => {
+                err = Some(e);
+                None
+            }
+        }
+    });
+    let rec = parse_lines(lines, &name, opts, size / 40)?;
+    if let Some(e) = err {
+        return Err(DataError { file: name, line: None, column: None, message: format!("cannot read: {e}") });
+    }
+    Ok(rec)
 }
 
 fn split_fields(line: &str, delim: Option<char>) -> Vec<&str> {
@@ -190,19 +206,29 @@ fn split_fields(line: &str, delim: Option<char>) -> Vec<&str> {
 /// * Missing, non-numeric or non-finite cells, and time that does not strictly increase, are
 ///   errors naming the line and column.
 pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record, DataError> {
+    parse_lines(text.lines().map(str::to_string), file, opts, text.len() / 40)
+}
+
+fn parse_lines(
+    lines: impl Iterator<Item = String>,
+    file: &str,
+    opts: &ReadOptions,
+    size_hint: usize,
+) -> Result<Record, DataError> {
     let err = |line: Option<usize>, column: Option<&str>, message: String| DataError {
         file: file.to_string(),
         line,
         column: column.map(str::to_string),
         message,
     };
-    let mut lines = text.lines().enumerate().filter(|(_, l)| {
+    let mut lines = lines.enumerate().filter(|(_, l)| {
         let t = l.trim_start();
         !t.is_empty() && !t.starts_with('#')
     });
     // header
-    let mut header: Option<(usize, Vec<&str>, Option<char>)> = None;
+    let mut header: Option<(usize, Option<char>)> = None;
     let mut first_seen: Option<String> = None;
+    let mut header_line = String::new();
     for (ln, line) in lines.by_ref().take(200) {
         let delim = if line.contains('\t') {
             Some('\t')
@@ -211,16 +237,17 @@ pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record
         } else {
             None
         };
-        let fields = split_fields(line, delim);
+        let fields = split_fields(&line, delim);
         if first_seen.is_none() {
             first_seen = Some(fields.join(","));
         }
         if fields.iter().any(|f| *f == opts.time_col) {
-            header = Some((ln, fields, delim));
+            header = Some((ln, delim));
+            header_line = line;
             break;
         }
     }
-    let Some((hline, names, delim)) = header else {
+    let Some((hline, delim)) = header else {
         return Err(err(
             None,
             None,
@@ -231,6 +258,7 @@ pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record
             ),
         ));
     };
+    let names = split_fields(&header_line, delim);
     let find = |c: &str| {
         names
             .iter()
@@ -260,7 +288,7 @@ pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record
     };
     let (tf, df) = (opts.time_unit.to_s(), opts.disp_unit.to_um());
     let mut rec = Record { source: file.to_string(), ..Default::default() };
-    let est = text.len() / 40;
+    let est = size_hint;
     rec.time.reserve(est);
     rec.load_point.reserve(est);
     rec.mu.reserve(est);
@@ -274,7 +302,7 @@ pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record
         Ok(v)
     };
     for (ln, line) in lines {
-        let cells = split_fields(line, delim);
+        let cells = split_fields(&line, delim);
         let off = match offset {
             Some(o) => o,
             None => {

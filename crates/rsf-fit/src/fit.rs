@@ -678,7 +678,13 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     let map = parameter_map(p, opts)?;
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
+    // each start after the first gets a time budget (a start that wanders into a stiff corner of
+    // parameter space must not hold the fit up): past it, evaluations fail and LM gives up
+    let deadline = std::cell::Cell::new(None::<std::time::Instant>);
     let objective = |theta: &[f64]| -> Result<Eval, SolveError> {
+        if deadline.get().is_some_and(|d| std::time::Instant::now() > d) {
+            return Err(SolveError::Input("time budget of this start exhausted".into()));
+        }
         let e = evaluate(p, &map, opts, theta, opts.rtol)?;
         let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
         let mut j = e.raw_j;
@@ -730,8 +736,15 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     starts.truncate(opts.starts.max(1) + if opts.laws.len() > 1 { 2 } else { 0 });
     let mut best: Option<lm::LmResult> = None;
     let mut first_err = None;
+    let mut first_time: Option<f64> = None;
     for s in &starts {
-        match lm::minimize(s, &objective, opts.max_iter) {
+        let t = std::time::Instant::now();
+        if let Some(t1) = first_time {
+            deadline.set(Some(t + std::time::Duration::from_secs_f64((5.0 * t1).max(0.5))));
+        }
+        let res = lm::minimize(s, &objective, opts.max_iter);
+        first_time.get_or_insert(t.elapsed().as_secs_f64());
+        match res {
             Ok(r) => {
                 if best.as_ref().is_none_or(|b| r.ssr < b.ssr) {
                     best = Some(r);

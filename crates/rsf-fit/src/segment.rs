@@ -311,6 +311,66 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
     out
 }
 
+/// A segment as a user gives it (times in s, velocity in µm/s): the override of detection.
+#[derive(Clone, Copy, Debug, serde::Deserialize)]
+pub struct SegmentSpec {
+    /// Start time, s.
+    pub t0: f64,
+    /// End time, s.
+    pub t1: f64,
+    /// Load-point velocity, µm/s (0 = hold).
+    pub v: f64,
+}
+
+/// Segments from user-given times and velocities (e.g. `rsf segments --json` output, edited):
+/// each sample belongs to the segment whose [t0, t1) holds it; kinds are recomputed. Errors
+/// name the offending segment.
+pub fn from_specs(time: &[f64], lp: &[f64], specs: &[SegmentSpec]) -> Result<Vec<Segment>, String> {
+    if specs.is_empty() {
+        return Err("the segments file lists no segments".into());
+    }
+    let mut out: Vec<Segment> = Vec::new();
+    let mut last_moving: Option<f64> = None;
+    for (k, s) in specs.iter().enumerate() {
+        if !(s.t1 > s.t0) || !s.v.is_finite() {
+            return Err(format!(
+                "segment {}: needs t1 > t0 and a finite v (got t0 {}, t1 {}, v {})",
+                k + 1,
+                s.t0,
+                s.t1,
+                s.v
+            ));
+        }
+        if let Some(p) = specs.get(k.wrapping_sub(1)).filter(|_| k > 0) {
+            if s.t0 < p.t1 - 1e-9 {
+                return Err(format!("segment {}: starts at {} s, before segment {} ends ({} s)", k + 1, s.t0, k, p.t1));
+            }
+        }
+        let i0 = time.partition_point(|&t| t < s.t0);
+        let last = k + 1 == specs.len();
+        let i1 = if last { time.partition_point(|&t| t <= s.t1) } else { time.partition_point(|&t| t < s.t1) };
+        if i1 <= i0 {
+            return Err(format!("segment {}: no samples between {} and {} s", k + 1, s.t0, s.t1));
+        }
+        let kind = if k == 0 {
+            SegmentKind::Initial
+        } else if s.v == 0.0 {
+            SegmentKind::Hold
+        } else if out.last().is_some_and(|p| p.v == 0.0) {
+            SegmentKind::Reslide
+        } else if s.v > last_moving.unwrap_or(s.v) {
+            SegmentKind::StepUp
+        } else {
+            SegmentKind::StepDown
+        };
+        if s.v != 0.0 {
+            last_moving = Some(s.v);
+        }
+        out.push(Segment { i0, i1: i1 - 1, t0: s.t0, t1: s.t1, lp0: lp[i0] - s.v * (time[i0] - s.t0), v: s.v, kind });
+    }
+    Ok(out)
+}
+
 /// Fuses neighbours of similar velocity, removes blips and absorbs tiny segments until stable.
 fn consolidate(
     segs: &mut Vec<(usize, Moments)>,
