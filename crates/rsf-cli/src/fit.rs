@@ -130,7 +130,8 @@ pub fn run(a: &FitArgs) -> Result<()> {
     print!("{}", summary(&res, mcmc.as_ref(), &per_segment));
     eprintln!("rsf fit: {:.2} s", wall);
     if let Some(p) = &a.plot {
-        crate::plot::fit(&res, p, &a.data.display().to_string()).with_context(|| format!("writing {}", p.display()))?;
+        let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        crate::plot::fit(&res, p, &name).with_context(|| format!("writing {}", p.display()))?;
     }
     if let Some(j) = &a.json {
         let out = Output { data: a.data.display().to_string(), fit: &res, mcmc, per_segment, wall_s: wall };

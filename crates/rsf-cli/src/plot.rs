@@ -66,7 +66,17 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
 /// Data, model and residuals of a fit against load-point displacement; segments alternate
 /// in shade.
 pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> {
-    let c = &r.curve;
+    // at most ~4000 points per series in the figure (the fit used every sample)
+    let stride = r.curve.time.len().div_ceil(4000).max(1);
+    let thin = |v: &[f64]| v.iter().step_by(stride).copied().collect::<Vec<f64>>();
+    let curve = rsf_fit::fit::Curve {
+        time: thin(&r.curve.time),
+        load_point: thin(&r.curve.load_point),
+        data: thin(&r.curve.data),
+        model: thin(&r.curve.model),
+        segment: r.curve.segment.iter().step_by(stride).copied().collect(),
+    };
+    let c = &curve;
     let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
     let head = format!(
