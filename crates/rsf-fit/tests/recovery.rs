@@ -88,3 +88,23 @@ fn recovers_kato_tullis_with_its_cutoff() {
     let vc = r.params.law_params["vc1"];
     assert!((vc / 0.03 - 1.0).abs() < 0.2, "vc {vc}");
 }
+
+/// Fit windows (the first X µm after each change, holds whole) keep the recovery, and use fewer
+/// samples; per-segment weights and uniform weights agree on noise-only misfit.
+#[test]
+fn windows_and_weights_keep_the_recovery() {
+    let m = Model::new(0.6, 1.0, 0.010, 0.005).with_state(StateVariable::new(Slip, 0.013, 8.0));
+    let rec = record(&m, 1.0, &protocol(), Noise { sigma: 2e-4, tau: 0.0 }, 9).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut opts = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.005);
+    opts.window_um = Some(30.0);
+    let p = prepare(&rec, &segs, &opts).unwrap();
+    assert!(p.used.len() < rec.len() * 3 / 4, "window kept {} of {}", p.used.len(), rec.len());
+    let r = fit(&p, &opts).unwrap();
+    assert!((r.params.a / 0.010 - 1.0).abs() < 0.05 && (r.params.b[0] / 0.013 - 1.0).abs() < 0.05);
+    assert!((r.params.dc[0] / 8.0 - 1.0).abs() < 0.10, "dc {}", r.params.dc[0]);
+    opts.window_um = None;
+    opts.weighting = rsf_fit::fit::Weighting::Uniform;
+    let r2 = fit(&prepare(&rec, &segs, &opts).unwrap(), &opts).unwrap();
+    assert!((r2.params.dc[0] / 8.0 - 1.0).abs() < 0.10);
+}
