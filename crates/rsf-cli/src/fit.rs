@@ -50,6 +50,7 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     }
     let mut o = FitOptions::new(laws, a.stiffness);
     o.fit_stiffness = a.fit_stiffness;
+    o.fit_slip_trend = a.fit_slip_trend;
     o.fix = a.fix.clone();
     o.mu0_per_segment = a.mu0_per_segment;
     o.window_um = a.window_um;
@@ -203,6 +204,9 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSe
         row(k, *v);
     }
     row("k", p.k);
+    if p.g != 0.0 || r.stderr.contains_key("g") {
+        row("g", p.g);
+    }
     let _ = writeln!(
         s,
         "rms {:.3e}  n {}  free {}  logL {:.1}  AIC {:.1}  BIC {:.1}  ({} LM iterations: {})",

@@ -136,6 +136,9 @@ struct FitArgs {
     /// Fit the stiffness too.
     #[arg(long)]
     fit_stiffness: bool,
+    /// Fit a slip trend g (a friction term g·slip: gouge growth, wear, slip hardening) too.
+    #[arg(long)]
+    fit_slip_trend: bool,
     /// Constraint NAME=VALUE or NAME-NAME=VALUE (repeatable), e.g. a-b=-0.003, dc=10, vc1=0.01.
     #[arg(long)]
     fix: Vec<String>,

@@ -54,4 +54,4 @@ pub use friction::FrictionForm;
 pub use law::{DynStateLaw, Jet, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, Piece, Segment, SegmentEnd};
 pub use model::{Model, ModelError, StateVariable};
-pub use system::{SpringSlider, n_params, param_index};
+pub use system::{N_GLOBAL, SpringSlider, n_params, param_index, state_offset};

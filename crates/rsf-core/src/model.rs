@@ -73,6 +73,9 @@ pub struct Model {
     pub eta: f64,
     /// Classic or regularized friction.
     pub form: FrictionForm,
+    /// Slip trend g, friction per µm of slip: a term g·δ added to friction (gouge growth, wear,
+    /// slip hardening); 0 by default.
+    pub slip_trend: f64,
     /// The state variables (N ≥ 1); laws may differ between them.
     pub states: Vec<StateVariable>,
 }
@@ -80,7 +83,7 @@ pub struct Model {
 impl Model {
     /// A model with no state variables yet (add them with [`with_state`](Self::with_state)).
     pub fn new(mu0: f64, v0: f64, a: f64, stiffness: f64) -> Self {
-        Self { mu0, v0, a, stiffness, eta: 0.0, form: FrictionForm::Classic, states: Vec::new() }
+        Self { mu0, v0, a, stiffness, eta: 0.0, form: FrictionForm::Classic, slip_trend: 0.0, states: Vec::new() }
     }
     /// Adds a state variable.
     pub fn with_state(mut self, s: StateVariable) -> Self {
@@ -90,6 +93,11 @@ impl Model {
     /// Sets the radiation damping η (friction per µm/s).
     pub fn with_eta(mut self, eta: f64) -> Self {
         self.eta = eta;
+        self
+    }
+    /// Sets the slip trend g (friction per µm of slip).
+    pub fn with_slip_trend(mut self, g: f64) -> Self {
+        self.slip_trend = g;
         self
     }
     /// Sets the friction form.
@@ -125,6 +133,9 @@ impl Model {
         }
         if !(self.eta >= 0.0 && self.eta.is_finite()) {
             return p("eta", self.eta, "must be zero or positive and finite");
+        }
+        if !self.slip_trend.is_finite() {
+            return p("slip_trend", self.slip_trend, "must be finite (friction per µm)");
         }
         if self.states.is_empty() {
             return Err(ModelError::NoState);

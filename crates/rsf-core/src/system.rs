@@ -15,7 +15,7 @@ use crate::model::Model;
 /// ```text
 /// dz_i/dt = G_i(V, θ_i, dτ/dt) / θ_i
 /// dτ/dt   = k (V_lp − V)
-/// dx/dt   = (dτ/dt − ∂f/∂Ψ · Σ b_i dz_i/dt) / (∂f/∂x + ηV)     (time derivative of the balance)
+/// dx/dt   = (dτ/dt − gV − ∂f/∂Ψ · Σ b_i dz_i/dt) / (∂f/∂x + ηV)  (time derivative of the balance)
 /// dδ/dt   = V
 /// ```
 ///
@@ -49,12 +49,12 @@ impl<'a> SpringSlider<'a> {
         Ok(y)
     }
 
-    /// Shear stress τ = f + ηV carried by the spring (the friction a load cell measures).
+    /// Shear stress τ = f + ηV + gδ carried by the spring (the friction a load cell measures).
     pub fn stress(&self, y: &[f64]) -> f64 {
         let n = self.model.states.len();
         let m = self.model;
         let psi = m.psi_from_ln_theta(&y[1..=n]);
-        m.form.friction(m.mu0, m.a, m.v0, y[0], psi) + m.eta * y[0].exp()
+        m.form.friction(m.mu0, m.a, m.v0, y[0], psi) + m.eta * y[0].exp() + m.slip_trend * y[n + 1]
     }
 
     /// Stress rate dτ/dt at slip rate `v`.
@@ -83,7 +83,7 @@ impl<'a> SpringSlider<'a> {
             0.0
         } else {
             let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
-            (tau_rate - fe.f_psi * psi_rate) / (fe.f_x + m.eta * v)
+            (tau_rate - m.slip_trend * v - fe.f_psi * psi_rate) / (fe.f_x + m.eta * v)
         };
         dy[n + 1] = v;
     }
@@ -131,12 +131,12 @@ impl<'a> SpringSlider<'a> {
             return;
         }
         let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
-        let num = tau_rate - fe.f_psi * psi_rate;
+        let num = tau_rate - m.slip_trend * v - fe.f_psi * psi_rate;
         let den = fe.f_x + m.eta * v;
         let xdot = num / den;
         dy[0] = xdot;
         // column x
-        let dnum_dx = dtau_dx - fe.f_psi * dpsi_rate_dx - psi_rate * fe.d_fpsi_dl;
+        let dnum_dx = dtau_dx - m.slip_trend * v - fe.f_psi * dpsi_rate_dx - psi_rate * fe.d_fpsi_dl;
         let dden_dx = fe.d_fx_dl + m.eta * v;
         jac[at(0, 0)] = (dnum_dx - xdot * dden_dx) / den;
         // columns z_j: ∂L/∂z_j = b_j / a
@@ -149,11 +149,19 @@ impl<'a> SpringSlider<'a> {
     }
 }
 
+/// Number of global parameters in the sensitivity layout: `mu0, a, k, g`.
+pub const N_GLOBAL: usize = 4;
+
 /// Number of model parameters for sensitivities with `n` state variables: the layout is
-/// `[mu0, a, k, b_1, dc_1, q_1, …, b_n, dc_n, q_n]`, where `q_i` is the law's first own
-/// parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws without one).
+/// `[mu0, a, k, g, b_1, dc_1, q_1, …, b_n, dc_n, q_n]`, where g is the slip trend and `q_i` the
+/// law's first own parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws without one).
 pub fn n_params(n_states: usize) -> usize {
-    3 + 3 * n_states
+    N_GLOBAL + 3 * n_states
+}
+
+/// Index of `b_i` (0-based state `i`) in the layout of [`n_params`]; `dc_i` and `q_i` follow.
+pub fn state_offset(i: usize) -> usize {
+    N_GLOBAL + 3 * i
 }
 
 /// Index of a named parameter in the layout of [`n_params`]: `mu0`, `a`, `k`, `b1`, `dc1`,
@@ -163,6 +171,7 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
         "mu0" => return Some(0),
         "a" => return Some(1),
         "k" | "stiffness" => return Some(2),
+        "g" | "slip_trend" => return Some(3),
         _ => {}
     }
     let split = name.find(|c: char| c.is_ascii_digit()).unwrap_or(name.len());
@@ -171,7 +180,7 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
     if i == 0 || i > model.states.len() {
         return None;
     }
-    let off = 3 + 3 * (i - 1);
+    let off = state_offset(i - 1);
     match base {
         "b" => Some(off),
         "dc" => Some(off + 1),
@@ -216,7 +225,7 @@ impl SpringSlider<'_> {
             let j = s.law.jet(&args);
             let zdot = j.rate / theta;
             psi_rate += s.b * zdot;
-            let off = 3 + 3 * i;
+            let off = state_offset(i);
             let dz_dk = j.d_stress_rate * (self.v_lp - v) / theta;
             let dz_db = j.d_b / theta;
             let dz_ddc = j.d_dc / theta;
@@ -234,9 +243,10 @@ impl SpringSlider<'_> {
                 fp[at(0, off + 2)] = -s.b * dz_dq / den;
             }
         }
-        let xdot = (tau_rate - psi_rate) / den;
+        let xdot = (tau_rate - m.slip_trend * v - psi_rate) / den;
         fp[at(0, 1)] = -xdot / den;
         fp[at(0, 2)] = ((self.v_lp - v) - dpsi_dk) / den;
+        fp[at(0, 3)] = -v / den;
         Ok(())
     }
 
@@ -251,14 +261,15 @@ impl SpringSlider<'_> {
         dtau_dy[0] = m.a + m.eta * y[0].exp();
         dtau_dp[0] = 1.0;
         dtau_dp[1] = y[0] - m.v0.ln();
+        dtau_dy[n + 1] = m.slip_trend;
+        dtau_dp[3] = y[n + 1];
         let lv0 = m.v0.ln();
         for (i, s) in m.states.iter().enumerate() {
             dtau_dy[1 + i] = s.b;
-            let off = 3 + 3 * i;
+            let off = state_offset(i);
             dtau_dp[off] = lv0 + y[1 + i] - (s.law.theta_scale() * s.dc).ln();
             dtau_dp[off + 1] = -s.b / s.dc;
         }
-        let _ = n;
         Ok(())
     }
 
@@ -270,7 +281,7 @@ impl SpringSlider<'_> {
         let d = n + 2;
         s0.iter_mut().for_each(|x| *x = 0.0);
         for (i, s) in model.states.iter().enumerate() {
-            let off = 3 + 3 * i;
+            let off = state_offset(i);
             let lnth = |dc: f64| s.law.steady_state_theta(v, dc).map(f64::ln);
             let h = 1e-6 * s.dc;
             s0[(off + 1) * d + 1 + i] = (lnth(s.dc + h)? - lnth(s.dc - h)?) / (2.0 * h);
@@ -328,6 +339,7 @@ mod tests {
                 .with_eta(0.01),
             Model { mu0: 0.05, ..base(0.02).with_state(StateVariable::new(Aging, 0.02, 1.0)) }
                 .with_form(FrictionForm::Regularized),
+            base(0.03).with_state(StateVariable::new(Aging, 0.015, 3.0)).with_slip_trend(-3e-5),
             base(f64::INFINITY).with_state(StateVariable::new(Slip, 0.015, 3.0)),
         ]
     }
@@ -396,9 +408,10 @@ mod tests {
             .with_state(StateVariable::new(Slip, 0.009, 3.0))
             .with_state(StateVariable::new(StressRate, 0.004, 20.0))
             .with_state(StateVariable::new(Kt { vc: 0.3 }, 0.003, 7.0))
-            .with_eta(0.01);
+            .with_eta(0.01)
+            .with_slip_trend(2e-5);
         let p0 = |m: &Model| {
-            let mut p = vec![m.mu0, m.a, m.stiffness];
+            let mut p = vec![m.mu0, m.a, m.stiffness, m.slip_trend];
             for s in &m.states {
                 p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
             }
@@ -409,11 +422,12 @@ mod tests {
             m.mu0 = p[0];
             m.a = p[1];
             m.stiffness = p[2];
+            m.slip_trend = p[3];
             for (i, s) in m.states.iter_mut().enumerate() {
-                s.b = p[3 + 3 * i];
-                s.dc = p[4 + 3 * i];
+                s.b = p[state_offset(i)];
+                s.dc = p[state_offset(i) + 1];
                 if let Some((name, _)) = s.law.parameters().first().copied() {
-                    s.law = s.law.with_parameter(name, p[5 + 3 * i]).unwrap();
+                    s.law = s.law.with_parameter(name, p[state_offset(i) + 2]).unwrap();
                 }
             }
             m
@@ -428,7 +442,7 @@ mod tests {
         let (mut gy, mut gp) = (vec![0.0; d], vec![0.0; np]);
         sys.stress_gradients(&y, &mut gy, &mut gp).unwrap();
         for j in 0..np {
-            if j == 8 || pv[j] == 0.0 {
+            if j == state_offset(1) + 2 || pv[j] == 0.0 {
                 continue; // q of a law without parameters
             }
             let h = 1e-6 * pv[j].abs();
@@ -461,5 +475,11 @@ mod tests {
             }
             assert!((f[y.len() - 1] - 2.5).abs() < 1e-13);
         }
+        // with a slip trend, steady sliding is not a fixed point: friction must fall by gV
+        let m = &models()[5];
+        let y = SpringSlider::steady_state(m, 2.5).unwrap();
+        let mut f = vec![0.0; y.len()];
+        SpringSlider::new(m, 2.5).rhs(&y, &mut f);
+        assert!((f[0] - (-m.slip_trend * 2.5 / m.a)).abs() < 1e-15);
     }
 }

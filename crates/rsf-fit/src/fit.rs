@@ -10,7 +10,7 @@ use crate::data::Record;
 use crate::lm::{self, Eval};
 use crate::segment::{Segment, SegmentKind};
 use crate::sens::solve_with_sensitivities;
-use rsf_core::{DynStateLaw, LoadRecord, Loading, Model, StateVariable, n_params, param_index};
+use rsf_core::{DynStateLaw, LoadRecord, Loading, Model, N_GLOBAL, StateVariable, n_params, param_index, state_offset};
 use rsf_solvers::{OutputTimes, Problem, SolveError};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -49,6 +49,8 @@ pub struct FitOptions {
     pub stiffness: f64,
     /// Fit k as well.
     pub fit_stiffness: bool,
+    /// Fit a slip trend g (friction per µm of slip) as well.
+    pub fit_slip_trend: bool,
     /// Constraints, e.g. `a-b=-0.003`, `dc=10`.
     pub fix: Vec<String>,
     /// A friction offset per segment.
@@ -77,6 +79,7 @@ impl FitOptions {
             laws,
             stiffness: k,
             fit_stiffness: false,
+            fit_slip_trend: false,
             fix: vec![],
             mu0_per_segment: false,
             window_um: None,
@@ -146,6 +149,8 @@ pub struct Params {
     pub dc: Vec<f64>,
     /// Stiffness, 1/µm.
     pub k: f64,
+    /// Slip trend g, friction per µm of slip (0 unless fitted or fixed).
+    pub g: f64,
     /// Laws, per state.
     pub laws: Vec<String>,
     /// Law-specific parameters by name (e.g. `vc1`).
@@ -263,7 +268,7 @@ pub struct ParamMap {
 }
 
 fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
-    let mut v = vec!["mu0".to_string(), "a".into(), "k".into()];
+    let mut v = vec!["mu0".to_string(), "a".into(), "k".into(), "g".into()];
     for (i, l) in opts.laws.iter().enumerate() {
         let q = l.parameters().first().map(|p| p.0).unwrap_or("q");
         v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1)]);
@@ -327,9 +332,9 @@ impl ParamMap {
     }
     /// Builds the model for a full vector.
     fn model(&self, opts: &FitOptions, full: &[f64], v0: f64) -> Result<Model, String> {
-        let mut m = Model::new(full[0], v0, full[1], full[2]);
+        let mut m = Model::new(full[0], v0, full[1], full[2]).with_slip_trend(full[3]);
         for (i, law) in opts.laws.iter().enumerate() {
-            let off = 3 + 3 * i;
+            let off = state_offset(i);
             let law = match law.parameters().first() {
                 Some((name, _)) => law.with_parameter(name, full[off + 2])?,
                 None => law.clone(),
@@ -463,7 +468,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
     let moving: Vec<f64> = p.segments.iter().filter(|s| s.v > 0.0).map(|s| s.v).collect();
     let vmin = moving.iter().copied().fold(f64::INFINITY, f64::min);
     for (i, law) in opts.laws.iter().enumerate() {
-        let off = 3 + 3 * i;
+        let off = state_offset(i);
         // split b between states; later states slower (Dc × 10 per state)
         base[off] = b * if n == 1 { 1.0 } else { 0.6 * 0.4f64.powi(i as i32) / 0.6f64.max(1e-9) * 0.6 };
         base[off + 1] = dc * 10f64.powi(i as i32);
@@ -475,14 +480,21 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
     }
     let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
     let log_param = |i: usize| {
-        i == 1 || i == 2 || (i >= 3 && i < np && ((i - 3) % 3 == 1 || ((i - 3) % 3 == 2 && names[i].starts_with("vc"))))
+        i == 1
+            || i == 2
+            || (i >= N_GLOBAL
+                && i < np
+                && ((i - N_GLOBAL) % 3 == 1 || ((i - N_GLOBAL) % 3 == 2 && names[i].starts_with("vc"))))
     };
     let mut free_idx = vec![0usize, 1];
     if opts.fit_stiffness {
         free_idx.push(2);
     }
+    if opts.fit_slip_trend {
+        free_idx.push(3);
+    }
     for (i, law) in opts.laws.iter().enumerate() {
-        let off = 3 + 3 * i;
+        let off = state_offset(i);
         free_idx.extend([off, off + 1]);
         if !law.parameters().is_empty() {
             free_idx.push(off + 2);
@@ -500,7 +512,12 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
     let known: Vec<&String> = names
         .iter()
         .enumerate()
-        .filter(|(i, _)| !(*i >= 3 && *i < np && (i - 3) % 3 == 2 && opts.laws[(i - 3) / 3].parameters().is_empty()))
+        .filter(|(i, _)| {
+            !(*i >= N_GLOBAL
+                && *i < np
+                && (i - N_GLOBAL) % 3 == 2
+                && opts.laws[(i - N_GLOBAL) / 3].parameters().is_empty())
+        })
         .map(|(_, n)| n)
         .collect();
     let index = |name: &str| -> Result<usize, FitError> {
@@ -575,7 +592,8 @@ fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
             0 => (-10.0, 10.0),
             1 => (1e-7, 1.0),
             2 => (1e-9, 1e4),
-            _ => match (i - 3) % 3 {
+            3 => (-1e-2, 1e-2),
+            _ => match (i - N_GLOBAL) % 3 {
                 0 => (-1.0, 1.0),
                 // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
                 // record of 1–1000 Hz can resolve
@@ -718,11 +736,12 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
                 full[0] = r1.params.mu0;
                 full[1] = r1.params.a;
                 full[2] = r1.params.k;
-                full[3] = r1.params.b[0];
-                full[4] = r1.params.dc[0];
+                full[3] = r1.params.g;
+                full[state_offset(0)] = r1.params.b[0];
+                full[state_offset(0) + 1] = r1.params.dc[0];
                 for i in 1..opts.laws.len() {
-                    full[3 + 3 * i] = sign * 0.2 * r1.params.b[0].abs();
-                    full[4 + 3 * i] = r1.params.dc[0] * 10f64.powi(i as i32);
+                    full[state_offset(i)] = sign * 0.2 * r1.params.b[0].abs();
+                    full[state_offset(i) + 1] = r1.params.dc[0] * 10f64.powi(i as i32);
                 }
                 starts.insert(0, map.theta_of(&full));
             }
@@ -830,15 +849,18 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         mu0: full[0],
         v0: p.v_init,
         a: full[1],
-        b: (0..map.n_states).map(|i| full[3 + 3 * i]).collect(),
-        dc: (0..map.n_states).map(|i| full[4 + 3 * i]).collect(),
+        b: (0..map.n_states).map(|i| full[state_offset(i)]).collect(),
+        dc: (0..map.n_states).map(|i| full[state_offset(i) + 1]).collect(),
         k: full[2],
+        g: full[3],
         laws: opts.laws.iter().map(|l| l.name()).collect(),
         law_params: opts
             .laws
             .iter()
             .enumerate()
-            .filter_map(|(i, l)| l.parameters().first().map(|(nm, _)| (format!("{nm}{}", i + 1), full[5 + 3 * i])))
+            .filter_map(|(i, l)| {
+                l.parameters().first().map(|(nm, _)| (format!("{nm}{}", i + 1), full[state_offset(i) + 2]))
+            })
             .collect(),
         mu0_offsets: full[np..].to_vec(),
     };

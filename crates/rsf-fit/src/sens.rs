@@ -81,9 +81,9 @@ impl<const D: usize, const P: usize, const DA: usize> OdeSystem<DA> for SensOde<
 /// output times. Classic friction form, finite stiffness, 1–3 state variables.
 pub fn solve_with_sensitivities(problem: &Problem, rtol: f64, atol: f64) -> Result<SensSolution, SolveError> {
     match problem.model.n_states() {
-        1 => run::<3, 6, 21>(problem, rtol, atol),
-        2 => run::<4, 9, 40>(problem, rtol, atol),
-        3 => run::<5, 12, 65>(problem, rtol, atol),
+        1 => run::<3, 7, 24>(problem, rtol, atol),
+        2 => run::<4, 10, 44>(problem, rtol, atol),
+        3 => run::<5, 13, 70>(problem, rtol, atol),
         n => Err(SolveError::Input(format!(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
         ))),
@@ -154,7 +154,7 @@ mod tests {
     use rsf_laws::{Aging, KatoTullis, Slip};
 
     fn params(m: &Model) -> Vec<f64> {
-        let mut p = vec![m.mu0, m.a, m.stiffness];
+        let mut p = vec![m.mu0, m.a, m.stiffness, m.slip_trend];
         for s in &m.states {
             p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
         }
@@ -165,11 +165,12 @@ mod tests {
         m.mu0 = p[0];
         m.a = p[1];
         m.stiffness = p[2];
+        m.slip_trend = p[3];
         for (i, s) in m.states.iter_mut().enumerate() {
-            s.b = p[3 + 3 * i];
-            s.dc = p[4 + 3 * i];
+            s.b = p[rsf_core::state_offset(i)];
+            s.dc = p[rsf_core::state_offset(i) + 1];
             if let Some((name, _)) = s.law.parameters().first().copied() {
-                s.law = s.law.with_parameter(name, p[5 + 3 * i]).unwrap();
+                s.law = s.law.with_parameter(name, p[rsf_core::state_offset(i) + 2]).unwrap();
             }
         }
         m
@@ -183,7 +184,8 @@ mod tests {
             Model::new(0.6, 1.0, 0.011, 0.02).with_state(StateVariable::new(Slip, 0.014, 3.0)),
             Model::new(0.6, 1.0, 0.011, 0.02)
                 .with_state(StateVariable::new(Slip, 0.009, 3.0))
-                .with_state(StateVariable::new(Aging, 0.005, 30.0)),
+                .with_state(StateVariable::new(Aging, 0.005, 30.0))
+                .with_slip_trend(1e-5),
             Model::new(0.6, 1.0, 0.011, 0.02)
                 .with_state(StateVariable::new(Slip, 0.008, 3.0))
                 .with_state(StateVariable::new(Aging, 0.004, 30.0))
@@ -238,7 +240,7 @@ mod tests {
         };
         let s = solve_with_sensitivities(&mk(base.clone()), 1e-7, 1e-11).unwrap();
         let np = s.n_params;
-        for j in [1usize, 2, 3, 4] {
+        for j in [1usize, 2, 4, 5] {
             let p = params(&base);
             let h = 1e-5 * p[j];
             let (mut pp, mut pm) = (p.clone(), p.clone());

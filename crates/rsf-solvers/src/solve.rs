@@ -473,7 +473,7 @@ fn friction_dim<const D: usize, I: Integrator>(
     let y = SVector::<f64, D>::from_column_slice(&SpringSlider::steady_state(model, problem.v_init)?);
     let ln_v_max = problem.max_slip_rate.ln();
     let classic = model.form == rsf_core::FrictionForm::Classic;
-    // τ = c + a x + Σ b_i z_i + η e^x
+    // τ = c + a x + Σ b_i z_i + η e^x + g δ
     let lv0 = model.v0.ln();
     let c = model.mu0 - model.a * lv0
         + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
@@ -495,7 +495,7 @@ fn friction_dim<const D: usize, I: Integrator>(
                 if model.eta != 0.0 {
                     t += model.eta * y[0].exp();
                 }
-                t
+                t + model.slip_trend * y[D - 1]
             } else {
                 SpringSlider::new(model, piece.v).stress(y.as_slice())
             })
