@@ -70,6 +70,9 @@ pub struct FitOptions {
     pub starts: usize,
     /// Initial values overriding the data-derived guesses (`name`, value).
     pub initial: Vec<(String, f64)>,
+    /// Wall-time budget of the whole fit, s: past it evaluations fail and LM returns its best
+    /// point (a fit must never hang).
+    pub time_budget: f64,
 }
 
 impl FitOptions {
@@ -89,6 +92,7 @@ impl FitOptions {
             max_iter: 100,
             starts: 5,
             initial: vec![],
+            time_budget: 30.0,
         }
     }
 }
@@ -594,6 +598,7 @@ fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
             2 => (1e-9, 1e4),
             3 => (-1e-2, 1e-2),
             _ => match (i - N_GLOBAL) % 3 {
+                2 if map.names[i].starts_with("vc") => (1e-9, 1e6),
                 0 => (-1.0, 1.0),
                 // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
                 // record of 1–1000 Hz can resolve
@@ -756,11 +761,17 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     let mut best: Option<lm::LmResult> = None;
     let mut first_err = None;
     let mut first_time: Option<f64> = None;
+    let fit_start = std::time::Instant::now();
+    let fit_deadline = fit_start + std::time::Duration::from_secs_f64(opts.time_budget);
     for s in &starts {
         let t = std::time::Instant::now();
-        if let Some(t1) = first_time {
-            deadline.set(Some(t + std::time::Duration::from_secs_f64((5.0 * t1).max(0.5))));
+        if t > fit_deadline {
+            break;
         }
+        deadline.set(Some(match first_time {
+            Some(t1) => (t + std::time::Duration::from_secs_f64((5.0 * t1).max(0.5))).min(fit_deadline),
+            None => fit_deadline,
+        }));
         let res = lm::minimize(s, &objective, opts.max_iter);
         first_time.get_or_insert(t.elapsed().as_secs_f64());
         match res {
@@ -799,9 +810,19 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     // pseudo-inverse, so an unidentified direction shows as a huge variance, not a tiny one
     let dsc: Vec<f64> = (0..m).map(|k| h[(k, k)].sqrt().max(1e-300)).collect();
     let hs = nalgebra::DMatrix::from_fn(m, m, |a, b| h[(a, b)] / (dsc[a] * dsc[b]));
-    let svd = hs.svd(true, true);
-    let smax = svd.singular_values.max();
-    let hsinv = svd.pseudo_inverse(1e-12 * smax).unwrap_or_else(|_| nalgebra::DMatrix::from_element(m, m, f64::NAN));
+    // nalgebra's plain SVD can iterate forever on non-finite input: check, and cap iterations
+    let nan = || nalgebra::DMatrix::from_element(m, m, f64::NAN);
+    let hsinv = if hs.iter().all(|x| x.is_finite()) {
+        match hs.clone().try_svd(true, true, 1e-15, 10_000) {
+            Some(svd) => {
+                let smax = svd.singular_values.max();
+                svd.pseudo_inverse(1e-12 * smax).unwrap_or_else(|_| nan())
+            }
+            None => nan(),
+        }
+    } else {
+        nan()
+    };
     let hinv = nalgebra::DMatrix::from_fn(m, m, |a, b| hsinv[(a, b)] / (dsc[a] * dsc[b]));
     let cov = (&hinv * g * &hinv) * s2;
     let full = map.full(&best.theta);

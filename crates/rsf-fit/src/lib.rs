@@ -1,6 +1,7 @@
 //! # rsf-fit
 
 pub mod data;
+pub mod diagnose;
 pub mod fit;
 pub mod lm;
 pub mod mcmc;

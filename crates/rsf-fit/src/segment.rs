@@ -400,7 +400,12 @@ fn consolidate(
         let mut k = 1;
         while k + 1 < segs.len() {
             let short = dur(k, segs) < 0.1 * dur(k - 1, segs).min(dur(k + 1, segs));
-            if short && similar(&segs[k - 1].1, &segs[k + 1].1) {
+            // …and its displacement anomaly is small next to its neighbours' travel (a stall
+            // or a burst of noise is; a reslide between two holds is not)
+            let v_nb = 0.5 * (segs[k - 1].1.slope() + segs[k + 1].1.slope());
+            let anomaly = ((segs[k].1.slope() - v_nb) * dur(k, segs)).abs();
+            let travel = v_nb.abs() * (dur(k - 1, segs) + dur(k + 1, segs));
+            if short && similar(&segs[k - 1].1, &segs[k + 1].1) && anomaly < 0.1 * travel {
                 let merged = segs[k - 1].1.merge(&segs[k].1).merge(&segs[k + 1].1);
                 segs[k - 1].1 = merged;
                 segs.drain(k..k + 2);

@@ -1,0 +1,107 @@
+//! Hidden effects must be found: synthetic records with one effect each (made by Rodas4 at
+//! rtol 1e-11, a different path from the fits), realistic protocol (steps and holds up to
+//! 3000 s, 10 Hz sliding, 1 Hz holds), noise 2e-4 white or correlated; `none` records must give
+//! `none`.
+
+use rsf_core::{Model, StateVariable};
+use rsf_fit::diagnose::{DiagnoseOptions, diagnose};
+use rsf_fit::fit::{FitOptions, LoadingMode};
+use rsf_fit::segment::{SegmentOptions, detect};
+use rsf_fit::synthetic::{Noise, SampledSegment, record};
+use rsf_laws::{Aging, KatoTullis, Slip, law_by_name};
+
+pub fn protocol() -> Vec<SampledSegment> {
+    vec![
+        (1.0, 60.0, 0.1),
+        (10.0, 10.0, 0.1),
+        (1.0, 80.0, 0.1),
+        (0.1, 300.0, 0.5),
+        (1.0, 60.0, 0.1),
+        (0.0, 100.0, 1.0),
+        (1.0, 60.0, 0.1),
+        (0.0, 1000.0, 2.0),
+        (1.0, 60.0, 0.1),
+        (0.0, 3000.0, 5.0),
+        (1.0, 80.0, 0.1),
+    ]
+}
+
+fn run(truth: &Model, k_nominal: f64, tau: f64, seed: u64) -> rsf_fit::diagnose::Diagnosis {
+    let rec = record(truth, 1.0, &protocol(), Noise { sigma: 2e-4, tau }, seed).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], k_nominal);
+    fit.loading = LoadingMode::Protocol;
+    let d = diagnose(&rec, &segs, &DiagnoseOptions { fit, heldout: true }).unwrap();
+    println!(
+        "cause {} ({:.1}); runner-up {:?}; lag1 {:.2} n_eff {:.0}; {}",
+        d.cause, d.confidence, d.runner_up, d.evidence.residual_lag1, d.evidence.n_effective, d.reason
+    );
+    let b = &d.baseline;
+    println!(
+        "   baseline a {:.5} b {:?} dc {:?} rms {:.2e} iters {} {}",
+        b.params.a, b.params.b, b.params.dc, b.rms, b.iterations, b.stop_reason
+    );
+    for s in &b.segments {
+        println!("      seg {} {:?} {:.1}-{:.1} v {:.4} n {} rms {:.2e}", s.index, s.kind, s.t0, s.t1, s.v, s.n, s.rms);
+    }
+    for c in &d.candidates {
+        println!(
+            "   {:24} ΔBIC {:>9.1} rms ratio {:.4} held-out {:?} → {:?} {:?}",
+            c.cause, c.delta_bic, c.rms_ratio, c.heldout_rms_before, c.heldout_rms_after, c.effect
+        );
+    }
+    d
+}
+
+fn base() -> Model {
+    Model::new(0.6, 1.0, 0.010, 0.005)
+}
+
+fn effect(d: &rsf_fit::diagnose::Diagnosis, key: &str) -> f64 {
+    d.effect[key].as_f64().unwrap_or_else(|| panic!("effect {key}: {:?}", d.effect))
+}
+
+#[test]
+fn nothing_hidden_gives_none_with_white_or_correlated_noise() {
+    let m = base().with_state(StateVariable::new(Slip, 0.013, 8.0));
+    assert_eq!(run(&m, 0.005, 0.0, 1).cause, "none");
+    // AR(1) noise with a 3 s correlation time must not pass for an effect
+    assert_eq!(run(&m, 0.005, 3.0, 2).cause, "none");
+}
+
+#[test]
+fn finds_an_aging_law_behind_a_slip_baseline() {
+    let d = run(&base().with_state(StateVariable::new(Aging, 0.013, 8.0)), 0.005, 0.0, 3);
+    assert_eq!(d.cause, "evolution_law");
+    assert_eq!(d.effect["law"], "aging");
+}
+
+#[test]
+fn finds_a_second_state_variable() {
+    let m = base().with_state(StateVariable::new(Slip, 0.010, 5.0)).with_state(StateVariable::new(Slip, 0.004, 60.0));
+    let d = run(&m, 0.005, 0.0, 4);
+    assert_eq!(d.cause, "second_state_variable");
+    assert!((effect(&d, "dc2") / 60.0 - 1.0).abs() < 0.2 && (effect(&d, "b2") / 0.004 - 1.0).abs() < 0.2);
+}
+
+#[test]
+fn finds_a_cutoff_velocity() {
+    let d = run(&base().with_state(StateVariable::new(KatoTullis { vc: 0.02 }, 0.013, 8.0)), 0.005, 0.0, 5);
+    assert_eq!(d.cause, "cutoff_velocity");
+    assert!((effect(&d, "vc") / 0.02 - 1.0).abs() < 0.2);
+}
+
+#[test]
+fn finds_a_slip_trend_in_correlated_noise() {
+    let m = base().with_state(StateVariable::new(Slip, 0.013, 8.0)).with_slip_trend(3e-6);
+    let d = run(&m, 0.005, 3.0, 6);
+    assert_eq!(d.cause, "slip_trend");
+    assert!((effect(&d, "g") / 3e-6 - 1.0).abs() < 0.2);
+}
+
+#[test]
+fn finds_a_wrong_nominal_stiffness() {
+    let d = run(&Model::new(0.6, 1.0, 0.010, 0.008).with_state(StateVariable::new(Slip, 0.013, 8.0)), 0.005, 0.0, 7);
+    assert_eq!(d.cause, "stiffness");
+    assert!((effect(&d, "k") / 0.008 - 1.0).abs() < 0.2);
+}
