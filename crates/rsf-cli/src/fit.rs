@@ -1,6 +1,6 @@
 //! `rsf fit`.
 
-use crate::FitArgs;
+use crate::{DiagnoseArgs, FitArgs};
 use anyhow::{Context, Result, bail};
 use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, Weighting, fit, prepare};
 use rsf_fit::segment::{SegmentKind, SegmentOptions, detect};
@@ -275,4 +275,78 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSe
         );
     }
     s
+}
+
+/// `rsf diagnose`.
+pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
+    let start = Instant::now();
+    if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
+        bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
+    }
+    if a.baseline != "slip" && a.baseline != "aging" {
+        bail!("--baseline `{}`: use slip or aging", a.baseline);
+    }
+    let mut fo =
+        FitOptions::new(vec![rsf_laws::law_by_name(&a.baseline, |_| None).map_err(anyhow::Error::msg)?], a.stiffness);
+    fo.loading = match a.loading.as_str() {
+        "record" => LoadingMode::Record,
+        "protocol" => LoadingMode::Protocol,
+        l => bail!("--loading `{l}`: use record or protocol"),
+    };
+    let rec = a.read.read(&a.data)?;
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    eprintln!("rsf diagnose: {} samples, {} segments; fitting the baseline and 5 extensions…", rec.len(), segs.len());
+    let d = rsf_fit::diagnose::diagnose(
+        &rec,
+        &segs,
+        &rsf_fit::diagnose::DiagnoseOptions { fit: fo, heldout: !a.no_heldout },
+    )?;
+    let wall = start.elapsed().as_secs_f64();
+    let mut out = format!("cause: {}\n{}\n", d.cause, d.reason);
+    if let Some((c, s)) = &d.runner_up {
+        out += &format!("runner-up: {c} (ΔBIC {s:.1})\n");
+    }
+    out += &format!(
+        "evidence: residual lag-1 {:.2}, n_eff {:.0} of {}, residual trend {:.2e}/µm (t = {:.1}), segment rms max/median {:.1}, misfit/noise {:.1}\n",
+        d.evidence.residual_lag1,
+        d.evidence.n_effective,
+        d.baseline.n,
+        d.evidence.residual_trend_per_um,
+        d.evidence.residual_trend_t,
+        d.evidence.segment_rms_ratio,
+        d.evidence.misfit_over_noise
+    );
+    out += &format!(
+        "{:24} {:>10} {:>10} {:>10} {:>22}  effect\n",
+        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "held-out rms"
+    );
+    for c in &d.candidates {
+        out += &format!(
+            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>22}  {}\n",
+            c.cause,
+            c.delta_bic,
+            c.delta_aic,
+            c.rms_ratio,
+            match (c.heldout_rms_before, c.heldout_rms_after) {
+                (Some(b), Some(a)) => format!("{b:.2e} → {a:.2e}"),
+                _ => "–".into(),
+            },
+            serde_json::to_string(&c.effect)?
+        );
+    }
+    crate::write_stdout(&out)?;
+    eprintln!("rsf diagnose: {wall:.1} s");
+    if let Some(j) = &a.json {
+        let mut v = serde_json::to_value(&d)?;
+        v["data"] = serde_json::json!(a.data.display().to_string());
+        v["wall_s"] = serde_json::json!(wall);
+        std::fs::write(j, serde_json::to_string_pretty(&v)? + "\n")
+            .with_context(|| format!("writing {}", j.display()))?;
+    }
+    if let Some(r) = &a.report {
+        let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        std::fs::write(r, crate::plot::diagnosis_html(&d, &name, &out)?)
+            .with_context(|| format!("writing {}", r.display()))?;
+    }
+    Ok(())
 }

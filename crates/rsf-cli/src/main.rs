@@ -73,6 +73,9 @@ impl DataArgs {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Diagnose a record: fit a baseline, try extensions (other law, second state variable,
+    /// cut-off velocity, slip trend, stiffness), name the cause and measure the gain.
+    Diagnose(Box<DiagnoseArgs>),
     /// Fit a rate-and-state model to a measured record (Levenberg-Marquardt with exact
     /// sensitivities; optional MCMC uncertainties).
     Fit(Box<FitArgs>),
@@ -113,6 +116,35 @@ enum Command {
         #[arg(long)]
         atol: Option<f64>,
     },
+}
+
+#[derive(clap::Args, Debug)]
+struct DiagnoseArgs {
+    /// The record.
+    data: PathBuf,
+    #[command(flatten)]
+    read: DataArgs,
+    /// Nominal machine stiffness k, 1/µm.
+    #[arg(long)]
+    stiffness: f64,
+    /// Baseline evolution law: slip or aging.
+    #[arg(long, default_value = "slip")]
+    baseline: String,
+    /// Forward-model loading: record or protocol.
+    #[arg(long, default_value = "protocol")]
+    loading: String,
+    /// Skip the held-out test.
+    #[arg(long)]
+    no_heldout: bool,
+    /// Random seed (kept for reproducibility of future stochastic steps; the diagnosis is deterministic).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the diagnosis as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Write a self-contained HTML report here.
+    #[arg(long)]
+    report: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -254,6 +286,7 @@ fn write_stdout(text: &str) -> Result<()> {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Fit(args) => fit::run(&args),
+        Command::Diagnose(args) => fit::diagnose(&args),
         Command::Segments { data, read, json, min_ratio, min_duration } => {
             let rec = read.read(&data)?;
             let opts = rsf_fit::segment::SegmentOptions { min_ratio, min_duration, ..Default::default() };

@@ -174,3 +174,88 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
 }
+
+/// A self-contained HTML report of a diagnosis: data with baseline and extended models,
+/// residuals of both against load point, and the candidate table (SVG inline).
+pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str) -> Result<String> {
+    let b = &d.baseline.curve;
+    let ext = d.extended.as_ref().map(|e| &e.curve);
+    let stride = b.time.len().div_ceil(3000).max(1);
+    let idx: Vec<usize> = (0..b.time.len()).step_by(stride).collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 760)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let (top, bottom) = root.split_vertically(420);
+        let xs: Vec<f64> = idx.iter().map(|&i| b.load_point[i]).collect();
+        let (x0, x1) = range(xs.iter().copied());
+        let (m0, m1) = range(idx.iter().map(|&i| b.data[i]).chain(idx.iter().map(|&i| b.model[i])));
+        let mut ch = ChartBuilder::on(&top)
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(75)
+            .build_cartesian_2d(x0..x1, m0..m1)
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.configure_mesh()
+            .x_desc("load-point displacement (µm)")
+            .y_desc("friction μ")
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.draw_series(
+            idx.iter().map(|&i| Circle::new((b.load_point[i], b.data[i]), 1, RGBColor(130, 130, 130).filled())),
+        )
+        .map_err(|e| anyhow!("{e}"))?
+        .label("data")
+        .legend(|(x, y)| Circle::new((x + 10, y), 3, RGBColor(130, 130, 130).filled()));
+        ch.draw_series(idx.iter().map(|&i| Circle::new((b.load_point[i], b.model[i]), 1, BLUE.filled())))
+            .map_err(|e| anyhow!("{e}"))?
+            .label("baseline")
+            .legend(|(x, y)| Circle::new((x + 10, y), 3, BLUE.filled()));
+        if let Some(e) = ext {
+            if e.time.len() == b.time.len() {
+                ch.draw_series(idx.iter().map(|&i| Circle::new((e.load_point[i], e.model[i]), 1, RED.filled())))
+                    .map_err(|er| anyhow!("{er}"))?
+                    .label(format!("extended ({})", d.cause))
+                    .legend(|(x, y)| Circle::new((x + 10, y), 3, RED.filled()));
+            }
+        }
+        ch.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.8))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        let rb: Vec<f64> = idx.iter().map(|&i| b.data[i] - b.model[i]).collect();
+        let re: Vec<f64> = match ext {
+            Some(e) if e.time.len() == b.time.len() => idx.iter().map(|&i| e.data[i] - e.model[i]).collect(),
+            _ => vec![],
+        };
+        let (r0, r1) = range(rb.iter().chain(&re).copied());
+        let mut ch = ChartBuilder::on(&bottom)
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(75)
+            .build_cartesian_2d(x0..x1, r0..r1)
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.configure_mesh()
+            .x_desc("load-point displacement (µm)")
+            .y_desc("residual (data − model)")
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.draw_series(xs.iter().zip(&rb).map(|(&x, &y)| Circle::new((x, y), 1, BLUE.filled())))
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.draw_series(xs.iter().zip(&re).map(|(&x, &y)| Circle::new((x, y), 1, RED.filled())))
+            .map_err(|e| anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow!("{e}"))?;
+    }
+    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    Ok(format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>rsf diagnose: {n}</title>\
+         <style>body{{font-family:sans-serif;max-width:1040px;margin:2em auto}}pre{{background:#f4f4f4;padding:1em;overflow-x:auto}}</style></head>\
+         <body><h1>rsf diagnose: {n}</h1><p><b>cause: {c}</b></p><p>{r}</p>{svg}<h2>Candidates</h2><pre>{t}</pre></body></html>\n",
+        n = esc(name),
+        c = esc(&d.cause),
+        r = esc(&d.reason),
+        t = esc(table),
+    ))
+}

@@ -256,3 +256,38 @@ fn a_segments_file_overrides_detection() {
     let out = rsf().args(fit_args()).arg("--segments").arg(&seg).output().unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("segment 1: needs t1 > t0"));
 }
+
+#[test]
+fn diagnose_writes_json_and_a_self_contained_report() {
+    let (json, html) = (tmp("diag.json"), tmp("diag.html"));
+    let out = rsf()
+        .args([
+            "diagnose",
+            repo().join(BASALT).to_str().unwrap(),
+            "--time-col",
+            "Time(s)",
+            "--lp-col",
+            "Displ(microns)",
+            "--mu-col",
+            "Friction",
+            "--stiffness",
+            "0.0151",
+            "--json",
+        ])
+        .arg(&json)
+        .arg("--report")
+        .arg(&html)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let causes = ["none", "evolution_law", "second_state_variable", "cutoff_velocity", "slip_trend", "stiffness"];
+    assert!(causes.contains(&v["cause"].as_str().unwrap()));
+    assert_eq!(v["candidates"].as_array().unwrap().len(), 5);
+    for key in ["delta_bic", "delta_aic", "rms_ratio", "heldout_rms_before", "heldout_rms_after"] {
+        assert!(v["gain"][key].as_f64().is_some(), "gain.{key}");
+    }
+    assert!(v["baseline"]["params"]["a"].as_f64().is_some() && v["extended"]["params"]["a"].as_f64().is_some());
+    let report = std::fs::read_to_string(&html).unwrap();
+    assert!(report.starts_with("<!doctype html>") && report.contains("<svg") && !report.contains("src=\"http"));
+}
