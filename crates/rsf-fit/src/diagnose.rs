@@ -264,7 +264,23 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     for (cause, ext, o) in tries {
         let t = std::time::Instant::now();
         let Ok(pc) = prepare(rec, segs, &o) else { continue };
-        let Ok(f) = fit(&pc, &o) else { continue };
+        // the cut-off: Vc far below every slip rate is the baseline, but there the gradient in
+        // Vc vanishes; also start at the slowest sliding rate and above it, keep the best
+        let f = if cause == "cutoff_velocity" {
+            [1e-3, 0.3, 3.0]
+                .iter()
+                .filter_map(|&m| {
+                    let mut oc = o.clone();
+                    if let Some(v) = oc.initial.iter_mut().find(|(n, _)| n == "vc1") {
+                        v.1 = m * vmin;
+                    }
+                    fit(&pc, &oc).ok()
+                })
+                .min_by(|a, b| a.rms.total_cmp(&b.rms))
+        } else {
+            fit(&pc, &o).ok()
+        };
+        let Some(f) = f else { continue };
         if std::env::var_os("RSF_DIAGNOSE_TIMING").is_some() {
             eprintln!("diagnose: {cause} fitted in {:.2} s", t.elapsed().as_secs_f64());
         }
