@@ -17,19 +17,7 @@ use rsf_fit::synthetic::{Noise, SampledSegment, record};
 use rsf_laws::{Aging, KatoTullis, Slip, law_by_name};
 
 fn protocol() -> Vec<SampledSegment> {
-    vec![
-        (1.0, 60.0, 0.1),
-        (10.0, 10.0, 0.1),
-        (1.0, 80.0, 0.1),
-        (0.1, 300.0, 0.5),
-        (1.0, 60.0, 0.1),
-        (0.0, 100.0, 1.0),
-        (1.0, 60.0, 0.1),
-        (0.0, 1000.0, 2.0),
-        (1.0, 60.0, 0.1),
-        (0.0, 3000.0, 5.0),
-        (1.0, 80.0, 0.1),
-    ]
+    rsf_fit::synthetic::step_hold_protocol()
 }
 
 struct Case {

@@ -58,3 +58,21 @@ pub fn record(
     }
     Ok(Record { time: sol.time, load_point: sol.load_point, mu, source: format!("synthetic (seed {seed})") })
 }
+
+/// A lab-like protocol for diagnosis tests and studies: steps 1 → 10 → 1 → 0.1 → 1 µm/s and
+/// holds of 100, 1000 and 3000 s with reslides; 10 Hz sliding, 2 Hz at 0.1 µm/s, 1–0.2 Hz in holds.
+pub fn step_hold_protocol() -> Vec<SampledSegment> {
+    vec![
+        (1.0, 60.0, 0.1),
+        (10.0, 10.0, 0.1),
+        (1.0, 80.0, 0.1),
+        (0.1, 300.0, 0.5),
+        (1.0, 60.0, 0.1),
+        (0.0, 100.0, 1.0),
+        (1.0, 60.0, 0.1),
+        (0.0, 1000.0, 2.0),
+        (1.0, 60.0, 0.1),
+        (0.0, 3000.0, 5.0),
+        (1.0, 80.0, 0.1),
+    ]
+}

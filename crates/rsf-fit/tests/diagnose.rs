@@ -10,20 +10,8 @@ use rsf_fit::segment::{SegmentOptions, detect};
 use rsf_fit::synthetic::{Noise, SampledSegment, record};
 use rsf_laws::{Aging, KatoTullis, Slip, law_by_name};
 
-pub fn protocol() -> Vec<SampledSegment> {
-    vec![
-        (1.0, 60.0, 0.1),
-        (10.0, 10.0, 0.1),
-        (1.0, 80.0, 0.1),
-        (0.1, 300.0, 0.5),
-        (1.0, 60.0, 0.1),
-        (0.0, 100.0, 1.0),
-        (1.0, 60.0, 0.1),
-        (0.0, 1000.0, 2.0),
-        (1.0, 60.0, 0.1),
-        (0.0, 3000.0, 5.0),
-        (1.0, 80.0, 0.1),
-    ]
+fn protocol() -> Vec<SampledSegment> {
+    rsf_fit::synthetic::step_hold_protocol()
 }
 
 fn run(truth: &Model, k_nominal: f64, tau: f64, seed: u64) -> rsf_fit::diagnose::Diagnosis {

@@ -9,6 +9,25 @@ use thiserror::Error;
 /// Largest number of state variables the solver is compiled for.
 pub const MAX_STATES: usize = 8;
 
+/// Calls `$f::<D, …>` with the stack dimension D = N + 2 of the problem's N state variables.
+macro_rules! by_dimension {
+    ($problem:expr, $f:ident::<$i:ident>($($arg:expr),*)) => {{
+        let n = $problem.model.n_states();
+        match n {
+            1 => $f::<3, $i>($($arg),*),
+            2 => $f::<4, $i>($($arg),*),
+            3 => $f::<5, $i>($($arg),*),
+            4 => $f::<6, $i>($($arg),*),
+            5 => $f::<7, $i>($($arg),*),
+            6 => $f::<8, $i>($($arg),*),
+            7 => $f::<9, $i>($($arg),*),
+            8 => $f::<10, $i>($($arg),*),
+            0 => Err(SolveError::Model(ModelError::NoState)),
+            _ => Err(SolveError::Input(format!("{n} state variables: this build supports at most {MAX_STATES}"))),
+        }
+    }};
+}
+
 /// Where output samples are taken.
 #[derive(Clone, Debug, PartialEq)]
 pub enum OutputTimes {
@@ -209,19 +228,7 @@ impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
 /// assert!(explicit.slip_rate[end] < 1e-2); // the hold relaxes V by orders of magnitude
 /// ```
 pub fn solve<I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
-    let n = problem.model.n_states();
-    macro_rules! dispatch {
-        ($($n:literal => $d:literal),*) => {
-            match n {
-                $($n => solve_dim::<$d, I>(problem, alg),)*
-                0 => Err(SolveError::Model(ModelError::NoState)),
-                _ => Err(SolveError::Input(format!(
-                    "{n} state variables: this build supports at most {MAX_STATES}"
-                ))),
-            }
-        };
-    }
-    dispatch!(1 => 3, 2 => 4, 3 => 5, 4 => 6, 5 => 7, 6 => 8, 7 => 9, 8 => 10)
+    by_dimension!(problem, solve_dim::<I>(problem, alg))
 }
 
 /// The output times of `problem` over its `pieces`.
@@ -449,17 +456,7 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
 /// misfits, which need nothing else. Same integration as [`solve`]; the stress is evaluated
 /// as a precomputed linear form in (ln V, ln θ_i) for the classic friction law.
 pub fn solve_friction<I: Integrator>(problem: &Problem, alg: &I) -> Result<(Vec<f64>, StepStats), SolveError> {
-    let n = problem.model.n_states();
-    macro_rules! dispatch {
-        ($($n:literal => $d:literal),*) => {
-            match n {
-                $($n => friction_dim::<$d, I>(problem, alg),)*
-                0 => Err(SolveError::Model(ModelError::NoState)),
-                _ => Err(SolveError::Input(format!("{n} state variables: this build supports at most {MAX_STATES}"))),
-            }
-        };
-    }
-    dispatch!(1 => 3, 2 => 4, 3 => 5, 4 => 6, 5 => 7, 6 => 8, 7 => 9, 8 => 10)
+    by_dimension!(problem, friction_dim::<I>(problem, alg))
 }
 
 fn friction_dim<const D: usize, I: Integrator>(
