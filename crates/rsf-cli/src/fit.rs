@@ -33,6 +33,14 @@ struct Output<'a> {
     wall_s: f64,
 }
 
+fn loading(name: &str) -> Result<LoadingMode> {
+    match name {
+        "record" => Ok(LoadingMode::Record),
+        "protocol" => Ok(LoadingMode::Protocol),
+        l => bail!("--loading `{l}`: use record or protocol"),
+    }
+}
+
 pub fn options(a: &FitArgs) -> Result<FitOptions> {
     let names: Vec<String> = match &a.laws {
         Some(l) => l.split(',').map(|s| s.trim().to_string()).collect(),
@@ -59,11 +67,7 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
         "uniform" => Weighting::Uniform,
         w => bail!("--weights `{w}`: use equal or uniform"),
     };
-    o.loading = match a.loading.as_str() {
-        "record" => LoadingMode::Record,
-        "protocol" => LoadingMode::Protocol,
-        l => bail!("--loading `{l}`: use record or protocol"),
-    };
+    o.loading = loading(&a.loading)?;
     o.rtol = a.rtol;
     o.starts = a.starts;
     for i in &a.initial {
@@ -288,11 +292,7 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     }
     let mut fo =
         FitOptions::new(vec![rsf_laws::law_by_name(&a.baseline, |_| None).map_err(anyhow::Error::msg)?], a.stiffness);
-    fo.loading = match a.loading.as_str() {
-        "record" => LoadingMode::Record,
-        "protocol" => LoadingMode::Protocol,
-        l => bail!("--loading `{l}`: use record or protocol"),
-    };
+    fo.loading = loading(&a.loading)?;
     let rec = a.read.read(&a.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     eprintln!("rsf diagnose: {} samples, {} segments; fitting the baseline and 5 extensions…", rec.len(), segs.len());

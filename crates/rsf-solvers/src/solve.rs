@@ -339,7 +339,6 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
     };
     let y_init = SpringSlider::steady_state(model, problem.v_init)?;
     let y = SVector::<f64, D>::from_column_slice(&y_init);
-    let ln_v_max = problem.max_slip_rate.ln();
 
     let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
         sol.time.push(t);
@@ -352,18 +351,9 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         }
     };
 
-    let mut stats = StepStats::default();
-    drive(
-        model,
-        &pieces,
-        &t_out,
-        y,
-        alg,
-        |sys| SliderOde::<D> { sys, ln_v_max },
-        problem.max_slip_rate,
-        &mut stats,
-        |piece, t, y| record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y),
-    )?;
+    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, |piece, t, y| {
+        record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y)
+    })?;
     sol.stats = stats;
     Ok(sol)
 }
@@ -452,6 +442,31 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
     Ok(y)
 }
 
+/// [`drive`] for the plain spring-slider of `problem`.
+fn drive_slider<const D: usize, I: Integrator>(
+    problem: &Problem,
+    pieces: &[Piece],
+    t_out: &[f64],
+    y: SVector<f64, D>,
+    alg: &I,
+    record: impl FnMut(&Piece, f64, &SVector<f64, D>),
+) -> Result<StepStats, SolveError> {
+    let ln_v_max = problem.max_slip_rate.ln();
+    let mut stats = StepStats::default();
+    drive(
+        &problem.model,
+        pieces,
+        t_out,
+        y,
+        alg,
+        |sys| SliderOde::<D> { sys, ln_v_max },
+        problem.max_slip_rate,
+        &mut stats,
+        record,
+    )?;
+    Ok(stats)
+}
+
 /// Friction only (the spring stress at the output times): the lean path for likelihoods and
 /// misfits, which need nothing else. Same integration as [`solve`]; the stress is evaluated
 /// as a precomputed linear form in (ln V, ln θ_i) for the classic friction law.
@@ -468,7 +483,6 @@ fn friction_dim<const D: usize, I: Integrator>(
     let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
     let t_out = output_times(problem, &pieces)?;
     let y = SVector::<f64, D>::from_column_slice(&SpringSlider::steady_state(model, problem.v_init)?);
-    let ln_v_max = problem.max_slip_rate.ln();
     let classic = model.form == rsf_core::FrictionForm::Classic;
     // τ = c + a x + Σ b_i z_i + η e^x + g δ
     let lv0 = model.v0.ln();
@@ -476,27 +490,16 @@ fn friction_dim<const D: usize, I: Integrator>(
         + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
     let b: Vec<f64> = model.states.iter().map(|s| s.b).collect();
     let mut mu = Vec::with_capacity(t_out.len());
-    let mut stats = StepStats::default();
-    drive(
-        model,
-        &pieces,
-        &t_out,
-        y,
-        alg,
-        |sys| SliderOde::<D> { sys, ln_v_max },
-        problem.max_slip_rate,
-        &mut stats,
-        |piece, _, y| {
-            mu.push(if classic {
-                let mut t = c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
-                if model.eta != 0.0 {
-                    t += model.eta * y[0].exp();
-                }
-                t + model.slip_trend * y[D - 1]
-            } else {
-                SpringSlider::new(model, piece.v).stress(y.as_slice())
-            })
-        },
-    )?;
+    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, |piece, _, y| {
+        mu.push(if classic {
+            let mut t = c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
+            if model.eta != 0.0 {
+                t += model.eta * y[0].exp();
+            }
+            t + model.slip_trend * y[D - 1]
+        } else {
+            SpringSlider::new(model, piece.v).stress(y.as_slice())
+        })
+    })?;
     Ok((mu, stats))
 }
