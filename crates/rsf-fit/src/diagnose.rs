@@ -260,6 +260,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             _ => {}
         }
     }
+    // a candidate the data cannot constrain (e.g. b2 running to its bound) must not dominate the
+    // run time: each candidate fit gets a third of the baseline budget
+    for (_, _, o) in tries.iter_mut() {
+        o.time_budget = (base_opts.time_budget / 3.0).max(2.0);
+    }
     let mut candidates = vec![];
     for (cause, ext, o) in tries {
         let t = std::time::Instant::now();
