@@ -164,6 +164,38 @@ pub fn state_offset(i: usize) -> usize {
     N_GLOBAL + 3 * i
 }
 
+impl Model {
+    /// The parameters in the layout of [`n_params`] (an unused law-parameter slot is 0).
+    pub fn parameter_vector(&self) -> Vec<f64> {
+        let mut p = vec![self.mu0, self.a, self.stiffness, self.slip_trend];
+        for s in &self.states {
+            p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
+        }
+        p
+    }
+
+    /// A copy with the parameters `p` (layout of [`n_params`]); each law's own parameter is set
+    /// by name. The error names a law that rejects its value.
+    pub fn with_parameter_vector(&self, p: &[f64]) -> Result<Model, String> {
+        if p.len() < n_params(self.states.len()) {
+            return Err(format!("{} parameters for {} expected", p.len(), n_params(self.states.len())));
+        }
+        let mut m = self.clone();
+        m.mu0 = p[0];
+        m.a = p[1];
+        m.stiffness = p[2];
+        m.slip_trend = p[3];
+        for (i, s) in m.states.iter_mut().enumerate() {
+            s.b = p[state_offset(i)];
+            s.dc = p[state_offset(i) + 1];
+            if let Some((name, _)) = s.law.parameters().first().copied() {
+                s.law = s.law.with_parameter(name, p[state_offset(i) + 2])?;
+            }
+        }
+        Ok(m)
+    }
+}
+
 /// Index of a named parameter in the layout of [`n_params`]: `mu0`, `a`, `k`, `b1`, `dc1`,
 /// `q1` (or the law's own name, e.g. `vc1`), `b2`, …; `b`/`dc` alone mean state 1.
 pub fn param_index(model: &Model, name: &str) -> Option<usize> {
@@ -410,32 +442,11 @@ mod tests {
             .with_state(StateVariable::new(Kt { vc: 0.3 }, 0.003, 7.0))
             .with_eta(0.01)
             .with_slip_trend(2e-5);
-        let p0 = |m: &Model| {
-            let mut p = vec![m.mu0, m.a, m.stiffness, m.slip_trend];
-            for s in &m.states {
-                p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
-            }
-            p
-        };
-        let rebuild = |p: &[f64]| {
-            let mut m = base.clone();
-            m.mu0 = p[0];
-            m.a = p[1];
-            m.stiffness = p[2];
-            m.slip_trend = p[3];
-            for (i, s) in m.states.iter_mut().enumerate() {
-                s.b = p[state_offset(i)];
-                s.dc = p[state_offset(i) + 1];
-                if let Some((name, _)) = s.law.parameters().first().copied() {
-                    s.law = s.law.with_parameter(name, p[state_offset(i) + 2]).unwrap();
-                }
-            }
-            m
-        };
+        let rebuild = |p: &[f64]| base.with_parameter_vector(p).unwrap();
         let d = 5;
         let np = n_params(3);
         let y = [-1.0, 0.8, 2.5, 1.2, 3.0];
-        let pv = p0(&base);
+        let pv = base.parameter_vector();
         let sys = SpringSlider::new(&base, 0.7);
         let mut fp = vec![0.0; d * np];
         sys.parameter_jacobian(&y, &mut fp).unwrap();

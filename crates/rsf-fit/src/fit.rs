@@ -336,16 +336,9 @@ impl ParamMap {
     }
     /// Builds the model for a full vector.
     fn model(&self, opts: &FitOptions, full: &[f64], v0: f64) -> Result<Model, String> {
-        let mut m = Model::new(full[0], v0, full[1], full[2]).with_slip_trend(full[3]);
-        for (i, law) in opts.laws.iter().enumerate() {
-            let off = state_offset(i);
-            let law = match law.parameters().first() {
-                Some((name, _)) => law.with_parameter(name, full[off + 2])?,
-                None => law.clone(),
-            };
-            m.states.push(StateVariable::from_shared(law, full[off], full[off + 1]));
-        }
-        Ok(m)
+        let mut m = Model::new(0.0, v0, 1.0, 1.0);
+        m.states = opts.laws.iter().map(|l| StateVariable::from_shared(l.clone(), 0.0, 1.0)).collect();
+        m.with_parameter_vector(&full[..n_params(self.n_states)])
     }
 }
 

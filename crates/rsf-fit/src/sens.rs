@@ -154,26 +154,10 @@ mod tests {
     use rsf_laws::{Aging, KatoTullis, Slip};
 
     fn params(m: &Model) -> Vec<f64> {
-        let mut p = vec![m.mu0, m.a, m.stiffness, m.slip_trend];
-        for s in &m.states {
-            p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0)]);
-        }
-        p
+        m.parameter_vector()
     }
     fn rebuild(base: &Model, p: &[f64]) -> Model {
-        let mut m = base.clone();
-        m.mu0 = p[0];
-        m.a = p[1];
-        m.stiffness = p[2];
-        m.slip_trend = p[3];
-        for (i, s) in m.states.iter_mut().enumerate() {
-            s.b = p[rsf_core::state_offset(i)];
-            s.dc = p[rsf_core::state_offset(i) + 1];
-            if let Some((name, _)) = s.law.parameters().first().copied() {
-                s.law = s.law.with_parameter(name, p[rsf_core::state_offset(i) + 2]).unwrap();
-            }
-        }
-        m
+        base.with_parameter_vector(p).unwrap()
     }
 
     /// ∂mu/∂p from the sensitivity equations agrees with central differences of tight

@@ -81,6 +81,20 @@ fn timed<I: Integrator>(p: &Problem, alg: &I, repeats: usize) -> (f64, Solution)
     (median(times), sol.unwrap())
 }
 
+/// One table row: law, method, tolerance, time, work, accuracy.
+fn row(law: &str, rtol: f64, t: f64, s: &Solution, n_segments: usize, err: f64) {
+    println!(
+        "| {law} | {} | {rtol:.0e} | {:.3} ms | {:.1} µs | {} ({}) | {} | {} | {err:.1e} |",
+        s.method,
+        t * 1e3,
+        t * 1e6 / n_segments as f64,
+        s.stats.accepted,
+        s.stats.rejected,
+        s.stats.rhs_evals,
+        s.stats.jacobian_evals
+    );
+}
+
 fn max_dmu(a: &Solution, b: &Solution) -> f64 {
     a.mu.iter().zip(&b.mu).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
@@ -115,17 +129,7 @@ fn main() {
             let (te, e) = timed(&p, &Dopri5::new(rtol, 1e-11), repeats);
             let (ti, i) = timed(&p, &Rodas4::new(rtol, 1e-11), repeats);
             for (t, s) in [(te, &e), (ti, &i)] {
-                println!(
-                    "| {law} | {} | {rtol:.0e} | {:.3} ms | {:.1} µs | {} ({}) | {} | {} | {:.1e} |",
-                    s.method,
-                    t * 1e3,
-                    t * 1e6 / segs.len() as f64,
-                    s.stats.accepted,
-                    s.stats.rejected,
-                    s.stats.rhs_evals,
-                    s.stats.jacobian_evals,
-                    max_dmu(s, &tight)
-                );
+                row(law, rtol, t, s, segs.len(), max_dmu(s, &tight));
             }
             if law == "slip" {
                 rust_radau_ref = Some((te, ti, e.mu[e.len() - 1]));
@@ -133,17 +137,7 @@ fn main() {
         }
         // Rodas4's error estimate is conservative: at rtol 1e-7 it matches dopri5's 1e-8 accuracy
         let (t, s) = timed(&p, &Rodas4::new(1e-7, 1e-10), repeats);
-        println!(
-            "| {law} | {} | 1e-7 | {:.3} ms | {:.1} µs | {} ({}) | {} | {} | {:.1e} |",
-            s.method,
-            t * 1e3,
-            t * 1e6 / segs.len() as f64,
-            s.stats.accepted,
-            s.stats.rejected,
-            s.stats.rhs_evals,
-            s.stats.jacobian_evals,
-            max_dmu(&s, &tight)
-        );
+        row(law, 1e-7, t, &s, segs.len(), max_dmu(&s, &tight));
         println!("| {law} | (tight: rodas4 vs dopri5 at 1e-13) | | | | | | | {tight_err:.1e} |");
     }
 
