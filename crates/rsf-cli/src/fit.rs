@@ -295,16 +295,48 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     fo.loading = loading(&a.loading)?;
     let rec = a.read.read(&a.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    eprintln!("rsf diagnose: {} samples, {} segments; fitting the baseline and 5 extensions…", rec.len(), segs.len());
+    eprintln!(
+        "rsf diagnose: {} samples, {} segments; fitting the baseline, then the extensions, held-out tests and per-event refits…",
+        rec.len(),
+        segs.len()
+    );
+    let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let progress: rsf_fit::diagnose::Progress = {
+        let bar = bar.clone();
+        std::sync::Arc::new(move |done, total, what: &str| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(what.to_string());
+        })
+    };
     let d = rsf_fit::diagnose::diagnose(
         &rec,
         &segs,
-        &rsf_fit::diagnose::DiagnoseOptions { fit: fo, heldout: !a.no_heldout },
+        &rsf_fit::diagnose::DiagnoseOptions {
+            heldout: !a.no_heldout,
+            progress: Some(progress),
+            ..rsf_fit::diagnose::DiagnoseOptions::new(fo)
+        },
     )?;
+    bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let mut out = format!("cause: {}\n{}\n", d.cause, d.reason);
     if let Some((c, s)) = &d.runner_up {
         out += &format!("runner-up: {c} (ΔBIC {s:.1})\n");
+    }
+    if let Some(s) = &d.secondary {
+        out += &format!(
+            "second cause: {} on top of {}: ΔBIC {:.1}, rms ratio {:.4}, effect {}\n",
+            s.cause,
+            d.cause,
+            s.delta_bic,
+            s.rms_ratio,
+            serde_json::to_string(&s.effect)?
+        );
     }
     out += &format!(
         "evidence: residual lag-1 {:.2}, n_eff {:.0} of {}, residual trend {:.2e}/µm (t = {:.1}), segment rms max/median {:.1}, misfit/noise {:.1}\n",
@@ -316,17 +348,28 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
         d.evidence.segment_rms_ratio,
         d.evidence.misfit_over_noise
     );
+    let opt = |x: Option<f64>, p: usize| x.map_or("–".to_string(), |v| format!("{v:.p$}"));
     out += &format!(
-        "{:24} {:>10} {:>10} {:>10} {:>22}  effect\n",
-        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "held-out rms"
+        "residual vs ln V: slope {} (t = {}); per-event Dc: χ²/dof {}, d ln Dc/d ln(step) {}, d ln Dc/d ln(hold) {} over {} events\n",
+        d.evidence.residual_vs_ln_v.map_or("–".into(), |v| format!("{v:.2e}")),
+        opt(d.evidence.residual_vs_ln_v_t, 1),
+        opt(d.evidence.dc_consistency_chi2, 1),
+        opt(d.evidence.dc_vs_ln_step, 2),
+        opt(d.evidence.dc_vs_ln_hold, 2),
+        d.per_segment.len()
+    );
+    out += &format!(
+        "{:24} {:>10} {:>10} {:>10} {:>7} {:>22}  effect\n",
+        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "time s", "held-out rms"
     );
     for c in &d.candidates {
         out += &format!(
-            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>22}  {}\n",
+            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>7.1} {:>22}  {}\n",
             c.cause,
             c.delta_bic,
             c.delta_aic,
             c.rms_ratio,
+            c.seconds,
             match (c.heldout_rms_before, c.heldout_rms_after) {
                 (Some(b), Some(a)) => format!("{b:.2e} → {a:.2e}"),
                 _ => "–".into(),

@@ -75,6 +75,7 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
         data: thin(&r.curve.data),
         model: thin(&r.curve.model),
         segment: r.curve.segment.iter().step_by(stride).copied().collect(),
+        slip_rate: thin(&r.curve.slip_rate),
     };
     let c = &curve;
     let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
@@ -175,11 +176,70 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
     Ok(())
 }
 
-/// A self-contained HTML report of a diagnosis: data with baseline and extended models,
-/// residuals of both against load point, and the candidate table (SVG inline).
+/// One scatter panel as an inline SVG string: series of (label, colour, points), optional
+/// error bars in y (same length as the points, or empty).
+fn scatter_svg(
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(String, RGBColor, Vec<(f64, f64)>, Vec<f64>)],
+    zero_line: bool,
+) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (490, 340)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let root = root.titled(title, ("sans-serif", 14)).map_err(|e| anyhow!("{e}"))?;
+        let (x0, x1) = range(series.iter().flat_map(|s| s.2.iter().map(|p| p.0)));
+        let (y0, y1) = range(series.iter().flat_map(|s| {
+            s.2.iter().enumerate().flat_map(move |(i, p)| {
+                let e = s.3.get(i).copied().unwrap_or(0.0);
+                [p.1 - e, p.1 + e]
+            })
+        }));
+        let mut ch = ChartBuilder::on(&root)
+            .margin(8)
+            .x_label_area_size(35)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| anyhow!("{e}"))?;
+        ch.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(|e| anyhow!("{e}"))?;
+        if zero_line {
+            ch.draw_series(LineSeries::new(vec![(x0, 0.0), (x1, 0.0)], BLACK)).map_err(|e| anyhow!("{e}"))?;
+        }
+        for (label, color, pts, err) in series {
+            let color = *color;
+            let r = if pts.len() > 50 { 1 } else { 4 };
+            ch.draw_series(pts.iter().map(|&(x, y)| Circle::new((x, y), r, color.filled())))
+                .map_err(|e| anyhow!("{e}"))?
+                .label(label.as_str())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 3, color.filled()));
+            if !err.is_empty() {
+                ch.draw_series(
+                    pts.iter()
+                        .zip(err)
+                        .map(|(&(x, y), &e)| PathElement::new(vec![(x, y - e), (x, y + e)], color.stroke_width(1))),
+                )
+                .map_err(|e| anyhow!("{e}"))?;
+            }
+        }
+        ch.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.8))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow!("{e}"))?;
+    }
+    Ok(svg)
+}
+
+/// A self-contained HTML report of a diagnosis: data with baseline and extended models and
+/// their residuals against load point, residuals per segment and against log slip rate,
+/// per-event refits of Dc, the gain table and every candidate (SVG inline).
 pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str) -> Result<String> {
     let b = &d.baseline.curve;
-    let ext = d.extended.as_ref().map(|e| &e.curve);
+    let ext = d.extended.as_ref().map(|e| &e.curve).filter(|e| e.time.len() == b.time.len());
     let stride = b.time.len().div_ceil(3000).max(1);
     let idx: Vec<usize> = (0..b.time.len()).step_by(stride).collect();
     let mut svg = String::new();
@@ -212,12 +272,10 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
             .label("baseline")
             .legend(|(x, y)| Circle::new((x + 10, y), 3, BLUE.filled()));
         if let Some(e) = ext {
-            if e.time.len() == b.time.len() {
-                ch.draw_series(idx.iter().map(|&i| Circle::new((e.load_point[i], e.model[i]), 1, RED.filled())))
-                    .map_err(|er| anyhow!("{er}"))?
-                    .label(format!("extended ({})", d.cause))
-                    .legend(|(x, y)| Circle::new((x + 10, y), 3, RED.filled()));
-            }
+            ch.draw_series(idx.iter().map(|&i| Circle::new((e.load_point[i], e.model[i]), 1, RED.filled())))
+                .map_err(|er| anyhow!("{er}"))?
+                .label(format!("extended ({})", d.cause))
+                .legend(|(x, y)| Circle::new((x + 10, y), 3, RED.filled()));
         }
         ch.configure_series_labels()
             .position(SeriesLabelPosition::UpperLeft)
@@ -227,8 +285,8 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
             .map_err(|e| anyhow!("{e}"))?;
         let rb: Vec<f64> = idx.iter().map(|&i| b.data[i] - b.model[i]).collect();
         let re: Vec<f64> = match ext {
-            Some(e) if e.time.len() == b.time.len() => idx.iter().map(|&i| e.data[i] - e.model[i]).collect(),
-            _ => vec![],
+            Some(e) => idx.iter().map(|&i| e.data[i] - e.model[i]).collect(),
+            None => vec![],
         };
         let (r0, r1) = range(rb.iter().chain(&re).copied());
         let mut ch = ChartBuilder::on(&bottom)
@@ -248,14 +306,129 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
             .map_err(|e| anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow!("{e}"))?;
     }
+    let ext_label = format!("extended ({})", d.cause);
+    // residuals per segment: rms of each, baseline and extended
+    let seg_rms = |c: &rsf_fit::fit::Curve| -> Vec<(f64, f64)> {
+        let n = c.segment.iter().max().map_or(0, |m| m + 1);
+        let mut acc = vec![(0.0, 0usize); n];
+        for (k, &s) in c.segment.iter().enumerate() {
+            acc[s].0 += (c.data[k] - c.model[k]).powi(2);
+            acc[s].1 += 1;
+        }
+        acc.iter()
+            .enumerate()
+            .filter(|(_, a)| a.1 > 0)
+            .map(|(i, a)| ((i + 1) as f64, (a.0 / a.1 as f64).sqrt()))
+            .collect()
+    };
+    let mut series = vec![("baseline".to_string(), BLUE, seg_rms(b), vec![])];
+    if let Some(e) = ext {
+        series.push((ext_label.clone(), RED, seg_rms(e), vec![]));
+    }
+    let per_seg = scatter_svg("rms misfit per segment", "segment", "rms residual", &series, false)?;
+    // residuals against log10 of the model slip rate
+    let vs_v = |c: &rsf_fit::fit::Curve| -> Vec<(f64, f64)> {
+        if c.slip_rate.len() != c.data.len() {
+            return vec![];
+        }
+        idx.iter()
+            .filter(|&&i| c.slip_rate[i] > 0.0)
+            .map(|&i| (c.slip_rate[i].log10(), c.data[i] - c.model[i]))
+            .collect()
+    };
+    let mut series = vec![("baseline".to_string(), BLUE, vs_v(b), vec![])];
+    if let Some(e) = ext {
+        series.push((ext_label.clone(), RED, vs_v(e), vec![]));
+    }
+    let per_v = scatter_svg("residuals against slip rate", "log10 V (model, µm/s)", "residual", &series, true)?;
+    // per-event Dc
+    let steps: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_none()).collect();
+    let holds: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_some()).collect();
+    let mut dc_svgs = String::new();
+    if !steps.is_empty() {
+        let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc.log10())).collect();
+        let err = steps.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
+        dc_svgs += &scatter_svg(
+            "Dc refitted step by step",
+            "log10 (V after / V before)",
+            "log10 Dc (µm)",
+            &[("steps".into(), BLUE, pts, err)],
+            false,
+        )?;
+    }
+    if !holds.is_empty() {
+        let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(1.0).log10(), e.dc.log10())).collect();
+        let err = holds.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
+        dc_svgs += &scatter_svg(
+            "Dc refitted hold by hold",
+            "log10 hold duration (s)",
+            "log10 Dc (µm)",
+            &[("holds".into(), RED, pts, err)],
+            false,
+        )?;
+    }
     let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let f = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.3e}"));
+    let gain = match &d.gain {
+        Some(g) => format!(
+            "<table><tr><th>ΔBIC<sub>eff</sub></th><th>ΔAIC<sub>eff</sub></th><th>rms ratio</th><th>held-out rms before</th><th>held-out rms after</th></tr>\
+             <tr><td>{:.1}</td><td>{:.1}</td><td>{:.4}</td><td>{}</td><td>{}</td></tr></table>",
+            g.delta_bic,
+            g.delta_aic,
+            g.rms_ratio,
+            f(g.heldout_rms_before),
+            f(g.heldout_rms_after)
+        ),
+        None => "<p>No extension is decisive: the baseline stands.</p>".into(),
+    };
+    let secondary = match &d.secondary {
+        Some(s) => format!(
+            "<p><b>Second cause: {}</b> — on top of {}, ΔBIC<sub>eff</sub> = {:.1}, rms ratio {:.4}, held-out {} → {}; effect {}</p>",
+            esc(&s.cause),
+            esc(&d.cause),
+            s.delta_bic,
+            s.rms_ratio,
+            f(s.heldout_rms_before),
+            f(s.heldout_rms_after),
+            esc(&serde_json::to_string(&s.effect)?)
+        ),
+        None => String::new(),
+    };
+    let mut events = String::new();
+    if !d.per_segment.is_empty() {
+        events += "<table><tr><th>event</th><th>t (s)</th><th>V before → after (µm/s)</th><th>hold (s)</th><th>a</th><th>b</th><th>Dc (µm)</th><th>±ln Dc</th><th>rms</th></tr>";
+        for e in &d.per_segment {
+            events += &format!(
+                "<tr><td>{}</td><td>{:.1}</td><td>{:.3} → {:.3}</td><td>{}</td><td>{:.5}</td><td>{:.5}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td></tr>",
+                e.event,
+                e.t,
+                e.v_before,
+                e.v_after,
+                e.hold_s.map_or("–".into(), |h| format!("{h:.0}")),
+                e.a,
+                e.b,
+                e.dc,
+                e.ln_dc_stderr,
+                e.rms
+            );
+        }
+        events += "</table>";
+    }
     Ok(format!(
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>rsf diagnose: {n}</title>\
-         <style>body{{font-family:sans-serif;max-width:1040px;margin:2em auto}}pre{{background:#f4f4f4;padding:1em;overflow-x:auto}}</style></head>\
-         <body><h1>rsf diagnose: {n}</h1><p><b>cause: {c}</b></p><p>{r}</p>{svg}<h2>Candidates</h2><pre>{t}</pre></body></html>\n",
+         <style>body{{font-family:sans-serif;max-width:1040px;margin:2em auto}}pre{{background:#f4f4f4;padding:1em;overflow-x:auto}}\
+         table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}</style></head>\
+         <body><h1>rsf diagnose: {n}</h1><p><b>cause: {c}</b></p><p>{r}</p>{sec}<h2>Gain</h2>{gain}\
+         <h2>Data, models and residuals</h2><p>Blue: baseline; red: extended. Held-out test: fitted before t = {split:.1} s, predicted after.</p>{svg}\
+         <h2>Where the residuals are</h2>{per_seg}{per_v}\
+         <h2>Parameter consistency: each step and hold refitted alone</h2>\
+         <p>One law with one Dc should serve every event; Dc that drifts with step size or hold duration points at the evolution law.</p>{dc_svgs}{events}\
+         <h2>Candidates and evidence</h2><pre>{t}</pre></body></html>\n",
         n = esc(name),
         c = esc(&d.cause),
         r = esc(&d.reason),
+        sec = secondary,
+        split = d.heldout_split_t,
         t = esc(table),
     ))
 }

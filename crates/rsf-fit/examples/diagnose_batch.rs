@@ -108,7 +108,7 @@ fn main() {
                             let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], c.k_nominal);
                             fit.loading = LoadingMode::Protocol;
                             let t = std::time::Instant::now();
-                            match diagnose(&rec, &segs, &DiagnoseOptions { fit, heldout: true }) {
+                            match diagnose(&rec, &segs, &DiagnoseOptions { threads: 1, ..DiagnoseOptions::new(fit) }) {
                                 Ok(d) => {
                                     let est = c.param.and_then(|(k, _)| d.effect.get(k).and_then(|v| v.as_f64()));
                                     (i, d.cause, est, t.elapsed().as_secs_f64())

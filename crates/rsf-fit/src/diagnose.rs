@@ -22,13 +22,43 @@ use std::collections::BTreeMap;
 /// Decisive ΔBIC_eff (negative: the extension is better).
 pub const DECISIVE: f64 = -10.0;
 
+/// Progress callback: (jobs done, jobs in all, what finished).
+pub type Progress = std::sync::Arc<dyn Fn(usize, usize, &str) + Send + Sync>;
+
 /// Diagnosis settings.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct DiagnoseOptions {
     /// Baseline fit settings (one state variable).
     pub fit: FitOptions,
     /// Run the held-out test.
     pub heldout: bool,
+    /// Refit the baseline law step by step and hold by hold (parameter consistency).
+    pub per_segment: bool,
+    /// Try the winning extension combined with each other decisive one.
+    pub combinations: bool,
+    /// Threads for the independent fits (0: all cores).
+    pub threads: usize,
+    /// Called as fits finish.
+    pub progress: Option<Progress>,
+}
+
+impl DiagnoseOptions {
+    /// Everything on: held-out test, per-segment refits, combinations, all cores, no progress.
+    pub fn new(fit: FitOptions) -> Self {
+        Self { fit, heldout: true, per_segment: true, combinations: true, threads: 0, progress: None }
+    }
+}
+
+impl std::fmt::Debug for DiagnoseOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DiagnoseOptions")
+            .field("fit", &self.fit)
+            .field("heldout", &self.heldout)
+            .field("per_segment", &self.per_segment)
+            .field("combinations", &self.combinations)
+            .field("threads", &self.threads)
+            .finish_non_exhaustive()
+    }
 }
 
 /// Numbers from the baseline residuals that point at causes.
@@ -46,12 +76,50 @@ pub struct Evidence {
     pub segment_rms_ratio: f64,
     /// Baseline misfit over the noise estimated from sample-to-sample differences.
     pub misfit_over_noise: f64,
+    /// Slope of the baseline residuals against ln V (model slip rate): a law that heals too
+    /// fast or too slowly at low slip rates leaves residuals that trend with ln V.
+    pub residual_vs_ln_v: Option<f64>,
+    /// Its t value with n_eff.
+    pub residual_vs_ln_v_t: Option<f64>,
+    /// Per-event refits: spread of ln Dc between events in units of its standard error
+    /// (reduced χ²; ≈ 1 when one Dc serves every step and hold).
+    pub dc_consistency_chi2: Option<f64>,
+    /// Slope of ln Dc against ln(V_after/V_before) over the velocity steps (the Aging law fitted
+    /// with one Dc to Slip-law steps, or the reverse, gives Dc that depends on step direction).
+    pub dc_vs_ln_step: Option<f64>,
+    /// Slope of ln Dc against ln(hold duration) over the holds.
+    pub dc_vs_ln_hold: Option<f64>,
+}
+
+/// One step or hold refitted alone with the baseline law (free mu0, a, b, Dc).
+#[derive(Clone, Debug, Serialize)]
+pub struct EventFit {
+    /// `step` or `hold`.
+    pub event: String,
+    /// Time of the change, s.
+    pub t: f64,
+    /// Load-point velocity before and after, µm/s.
+    pub v_before: f64,
+    /// After.
+    pub v_after: f64,
+    /// Hold duration, s (holds only).
+    pub hold_s: Option<f64>,
+    /// Fitted a, b, Dc (µm).
+    pub a: f64,
+    /// b.
+    pub b: f64,
+    /// Dc, µm.
+    pub dc: f64,
+    /// Standard error of ln Dc.
+    pub ln_dc_stderr: f64,
+    /// rms misfit of the window.
+    pub rms: f64,
 }
 
 /// One candidate extension and its score.
 #[derive(Clone, Debug, Serialize)]
 pub struct Candidate {
-    /// Cause name.
+    /// Cause name (`a+b` for a combination).
     pub cause: String,
     /// What was changed.
     pub extension: String,
@@ -67,6 +135,8 @@ pub struct Candidate {
     pub heldout_rms_after: Option<f64>,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: BTreeMap<String, serde_json::Value>,
+    /// Wall time of the candidate's fits, s.
+    pub seconds: f64,
     /// The fit.
     #[serde(skip)]
     pub fit: Option<FitResult>,
@@ -85,6 +155,25 @@ pub struct Gain {
     pub heldout_rms_before: Option<f64>,
     /// Held-out rms after.
     pub heldout_rms_after: Option<f64>,
+}
+
+/// A second cause found on top of the first.
+#[derive(Clone, Debug, Serialize)]
+pub struct Secondary {
+    /// Cause name.
+    pub cause: String,
+    /// ΔBIC_eff of the combined model against the first extension alone.
+    pub delta_bic: f64,
+    /// rms(combined) / rms(first extension).
+    pub rms_ratio: f64,
+    /// Held-out rms of the first extension and of the combination.
+    pub heldout_rms_before: Option<f64>,
+    /// Held-out rms of the combination.
+    pub heldout_rms_after: Option<f64>,
+    /// Effect parameters of the combined fit.
+    pub effect: BTreeMap<String, serde_json::Value>,
+    /// The combined fit.
+    pub fit: FitResult,
 }
 
 /// The diagnosis.
@@ -110,6 +199,12 @@ pub struct Diagnosis {
     pub runner_up: Option<(String, f64)>,
     /// All candidates.
     pub candidates: Vec<Candidate>,
+    /// A second cause that decisively improves on the first extension, when one does.
+    pub secondary: Option<Secondary>,
+    /// Per-event refits of the baseline law.
+    pub per_segment: Vec<EventFit>,
+    /// Held-out split time, s.
+    pub heldout_split_t: f64,
 }
 
 fn lag1(r: &[f64]) -> f64 {
@@ -122,31 +217,51 @@ fn lag1(r: &[f64]) -> f64 {
     r.windows(2).map(|w| (w[0] - m) * (w[1] - m)).sum::<f64>() / v
 }
 
+/// Least-squares slope of y on x and its t value when the residual scatter holds `n_eff`
+/// independent values.
+fn slope_t(x: &[f64], y: &[f64], n_eff: f64) -> Option<(f64, f64)> {
+    let n = x.len() as f64;
+    if x.len() < 3 {
+        return None;
+    }
+    let xm = x.iter().sum::<f64>() / n;
+    let ym = y.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|v| (v - xm).powi(2)).sum();
+    if !(sxx > 0.0) {
+        return None;
+    }
+    let slope = x.iter().zip(y).map(|(a, b)| (a - xm) * (b - ym)).sum::<f64>() / sxx;
+    let var = x.iter().zip(y).map(|(a, b)| (b - ym - slope * (a - xm)).powi(2)).sum::<f64>() / (n - 2.0).max(1.0);
+    let se = (var / sxx * n / n_eff.clamp(3.0, n)).sqrt();
+    Some((slope, slope / se.max(1e-300)))
+}
+
 fn evidence(base: &FitResult) -> Evidence {
     let c = &base.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let n = res.len() as f64;
     let rho = lag1(&res).clamp(-0.99, 0.99);
     let n_eff = (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n);
-    // residual trend against load-point displacement
-    let xm = c.load_point.iter().sum::<f64>() / n;
-    let rm = res.iter().sum::<f64>() / n;
-    let sxx: f64 = c.load_point.iter().map(|x| (x - xm).powi(2)).sum();
-    let sxr: f64 = c.load_point.iter().zip(&res).map(|(x, r)| (x - xm) * (r - rm)).sum();
-    let slope = if sxx > 0.0 { sxr / sxx } else { 0.0 };
-    let resid_var = res.iter().map(|r| (r - rm).powi(2)).sum::<f64>() / n;
-    let se = (resid_var / sxx.max(1e-300) * n / n_eff).sqrt();
+    let (slope, t) = slope_t(&c.load_point, &res, n_eff).unwrap_or((0.0, 0.0));
     let mut seg_rms: Vec<f64> = base.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
     seg_rms.sort_by(f64::total_cmp);
     let med = seg_rms.get(seg_rms.len() / 2).copied().unwrap_or(0.0);
     let noise = (c.data.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (2.0 * (n - 1.0))).sqrt();
+    let (lnv, rv): (Vec<f64>, Vec<f64>) =
+        c.slip_rate.iter().zip(&res).filter(|(v, _)| **v > 0.0).map(|(v, r)| (v.ln(), *r)).unzip();
+    let vt = if c.slip_rate.len() == res.len() { slope_t(&lnv, &rv, n_eff) } else { None };
     Evidence {
         residual_lag1: rho,
         n_effective: n_eff,
         residual_trend_per_um: slope,
-        residual_trend_t: slope / se.max(1e-300),
+        residual_trend_t: t,
         segment_rms_ratio: seg_rms.last().copied().unwrap_or(0.0) / med.max(1e-300),
         misfit_over_noise: base.rms / noise.max(1e-300),
+        residual_vs_ln_v: vt.map(|v| v.0),
+        residual_vs_ln_v_t: vt.map(|v| v.1),
+        dc_consistency_chi2: None,
+        dc_vs_ln_step: None,
+        dc_vs_ln_hold: None,
     }
 }
 
@@ -158,8 +273,20 @@ fn scores(base: &FitResult, ext: &FitResult, n_eff: f64) -> (f64, f64) {
     (-2.0 * dll + dk * n_eff.ln(), -2.0 * dll + 2.0 * dk)
 }
 
-/// Held-out rms: fit on the record before `t_split`, predict after it.
-fn heldout(rec: &Record, segs: &[Segment], opts: &FitOptions, t_split: f64) -> Option<f64> {
+/// n_eff of a fit's residuals.
+fn n_eff_of(f: &FitResult) -> f64 {
+    let c = &f.curve;
+    let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
+    let n = res.len() as f64;
+    let rho = lag1(&res).clamp(-0.99, 0.99);
+    (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n)
+}
+
+/// Held-out rms: fit on the record before `t_split`, predict after it. The training fit starts
+/// from `start` (the full-record optimum of the same model) with one start: the held-out test
+/// asks how well the model *form* predicts, and a warm start finds the same basin in a fraction
+/// of the time.
+fn heldout(rec: &Record, segs: &[Segment], opts: &FitOptions, start: &FitResult, t_split: f64) -> Option<f64> {
     let train = rec.window(rec.time[0], t_split);
     let tsegs: Vec<Segment> = segs
         .iter()
@@ -171,7 +298,7 @@ fn heldout(rec: &Record, segs: &[Segment], opts: &FitOptions, t_split: f64) -> O
             s
         })
         .collect();
-    let o = FitOptions { mu0_per_segment: false, ..opts.clone() };
+    let o = FitOptions { mu0_per_segment: false, initial: start.params.as_initial(), starts: 1, ..opts.clone() };
     let pt = prepare(&train, &tsegs, &o).ok()?;
     let ft = fit(&pt, &o).ok()?;
     let pf = prepare(rec, segs, &o).ok()?;
@@ -203,103 +330,92 @@ fn split_time(rec: &Record, segs: &[Segment]) -> f64 {
         .unwrap_or(target)
 }
 
-/// Runs the diagnosis on a record with its segments.
-pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
-    let base_opts = &opts.fit;
-    if base_opts.laws.len() != 1 {
-        return Err(FitError::Setup("the baseline has one state variable".into()));
+/// Maps `f` over `items` on `threads` threads (0: all cores), keeping order.
+fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = if threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { threads };
+    let threads = threads.min(items.len()).max(1);
+    if threads == 1 {
+        return items.iter().map(&f).collect();
     }
-    let base_law = base_opts.laws[0].name();
-    let p: Prepared = prepare(rec, segs, base_opts)?;
-    let base = fit(&p, base_opts)?;
-    let ev = evidence(&base);
-    let t_split = split_time(&p.record, &p.segments);
-    let ho_base = if opts.heldout { heldout(&p.record, &p.segments, base_opts, t_split) } else { None };
-    let law = |n: &str| rsf_laws::law_by_name(n, |q| Some(if q == "vc" { 0.01 } else { 1.0 })).expect("built-in law");
-    let other = if base_law == "aging" { "slip" } else { "aging" };
-    let mut tries: Vec<(&str, String, FitOptions)> = vec![];
-    tries.push((
-        "evolution_law",
-        format!("{other} law instead of {base_law}"),
-        FitOptions { laws: vec![law(other)], ..base_opts.clone() },
-    ));
-    tries.push((
-        "second_state_variable",
-        format!("second state variable ({base_law})"),
-        FitOptions { laws: vec![law(&base_law), law(&base_law)], ..base_opts.clone() },
-    ));
-    tries.push((
-        "cutoff_velocity",
-        "Kato–Tullis law with cut-off velocity Vc".into(),
-        FitOptions { laws: vec![law("kato-tullis")], ..base_opts.clone() },
-    ));
-    tries.push(("slip_trend", "slip trend g·slip".into(), FitOptions { fit_slip_trend: true, ..base_opts.clone() }));
-    if !base_opts.fit_stiffness {
-        tries.push(("stiffness", "stiffness fitted".into(), FitOptions { fit_stiffness: true, ..base_opts.clone() }));
-    }
-    // every candidate starts from the baseline optimum (Kato–Tullis with Vc far below any slip
-    // rate, where it is the Slip law), so an extension can only improve on the baseline
-    let bp = &base.params;
-    let vmin = p.segments.iter().filter(|s| s.v > 0.0).map(|s| s.v).fold(f64::INFINITY, f64::min);
-    let from_base = |o: &mut FitOptions, vc: bool| {
-        o.initial = vec![
-            ("mu0".into(), bp.mu0),
-            ("a".into(), bp.a),
-            ("b1".into(), bp.b[0]),
-            ("dc1".into(), bp.dc[0]),
-            ("k".into(), bp.k),
-        ];
-        if vc {
-            o.initial.push(("vc1".into(), 1e-3 * vmin));
-        }
-    };
-    for (cause, _, o) in tries.iter_mut() {
-        match *cause {
-            "cutoff_velocity" => from_base(o, true),
-            "slip_trend" | "stiffness" => from_base(o, false),
-            _ => {}
-        }
-    }
-    // a candidate the data cannot constrain (e.g. b2 running to its bound) must not dominate the
-    // run time: each candidate fit gets a third of the baseline budget
-    for (_, _, o) in tries.iter_mut() {
-        o.time_budget = (base_opts.time_budget / 3.0).max(2.0);
-    }
-    let mut candidates = vec![];
-    for (cause, ext, o) in tries {
-        let t = std::time::Instant::now();
-        let Ok(pc) = prepare(rec, segs, &o) else { continue };
-        // the cut-off: Vc far below every slip rate is the baseline, but there the gradient in
-        // Vc vanishes; also start at the slowest sliding rate and above it, keep the best
-        let f = if cause == "cutoff_velocity" {
-            [1e-3, 0.3, 3.0]
-                .iter()
-                .filter_map(|&m| {
-                    let mut oc = o.clone();
-                    if let Some(v) = oc.initial.iter_mut().find(|(n, _)| n == "vc1") {
-                        v.1 = m * vmin;
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let out: Vec<std::sync::Mutex<Option<R>>> = items.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|sc| {
+        for _ in 0..threads {
+            sc.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    if i >= items.len() {
+                        break;
                     }
-                    fit(&pc, &oc).ok()
-                })
-                .min_by(|a, b| a.rms.total_cmp(&b.rms))
-        } else {
-            fit(&pc, &o).ok()
-        };
-        let Some(f) = f else { continue };
-        if std::env::var_os("RSF_DIAGNOSE_TIMING").is_some() {
-            eprintln!("diagnose: {cause} fitted in {:.2} s", t.elapsed().as_secs_f64());
+                    let r = f(&items[i]);
+                    *out[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+                }
+            });
         }
-        let (dbic, daic) = scores(&base, &f, ev.n_effective);
-        let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, t_split) } else { None };
-        let mut effect = BTreeMap::new();
-        let pr = &f.params;
-        match cause {
+    });
+    out.into_iter().map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()).expect("every item mapped")).collect()
+}
+
+/// The cause names of the candidate extensions, in the order they are tried.
+pub const CAUSES: [&str; 5] = ["evolution_law", "second_state_variable", "cutoff_velocity", "slip_trend", "stiffness"];
+
+fn builtin(n: &str) -> std::sync::Arc<dyn rsf_core::DynStateLaw> {
+    rsf_laws::law_by_name(n, |q| Some(if q == "vc" { 0.01 } else { 1.0 })).expect("built-in law")
+}
+
+/// Applies the extension of `cause` to fit options (composable: a combination applies two).
+/// `None` when it does not apply (e.g. the cut-off on top of a law change).
+fn extend(o: &FitOptions, cause: &str, base_law: &str) -> Option<FitOptions> {
+    let other = if base_law == "aging" { "slip" } else { "aging" };
+    let mut o = o.clone();
+    match cause {
+        "evolution_law" => {
+            if o.laws.iter().any(|l| l.name() != base_law) {
+                return None;
+            }
+            o.laws = o.laws.iter().map(|_| builtin(other)).collect();
+        }
+        "second_state_variable" => {
+            if o.laws.len() != 1 {
+                return None;
+            }
+            let l = o.laws[0].clone();
+            o.laws.push(l);
+        }
+        "cutoff_velocity" => {
+            if o.laws[0].name() != base_law || o.laws.len() != 1 {
+                return None;
+            }
+            o.laws[0] = builtin("kato-tullis");
+        }
+        "slip_trend" => {
+            if o.fit_slip_trend {
+                return None;
+            }
+            o.fit_slip_trend = true;
+        }
+        "stiffness" => {
+            if o.fit_stiffness {
+                return None;
+            }
+            o.fit_stiffness = true;
+        }
+        _ => return None,
+    }
+    Some(o)
+}
+
+fn effect_of(cause: &str, f: &FitResult) -> BTreeMap<String, serde_json::Value> {
+    let mut effect = BTreeMap::new();
+    let pr = &f.params;
+    for c in cause.split('+') {
+        match c {
             "evolution_law" => {
-                effect.insert("law".into(), serde_json::json!(other));
+                effect.insert("law".into(), serde_json::json!(pr.laws.join("+")));
             }
             "second_state_variable" => {
-                effect.insert("b2".into(), serde_json::json!(pr.b[1]));
-                effect.insert("dc2".into(), serde_json::json!(pr.dc[1]));
+                effect.insert("b2".into(), serde_json::json!(pr.b.get(1)));
+                effect.insert("dc2".into(), serde_json::json!(pr.dc.get(1)));
             }
             "cutoff_velocity" => {
                 effect.insert("vc".into(), serde_json::json!(pr.law_params.get("vc1")));
@@ -311,31 +427,280 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 effect.insert("k".into(), serde_json::json!(pr.k));
             }
         }
-        candidates.push(Candidate {
+    }
+    effect
+}
+
+/// Fits `o` starting from `from` (an optimum of a nested model); the cut-off also from Vc at
+/// and above the slowest sliding rate, keeping the best (far below every slip rate Kato–Tullis
+/// is the Slip law, but there its gradient in Vc vanishes).
+fn fit_from(p: &Prepared, o: &FitOptions, from: &FitResult, vmin: f64) -> Option<FitResult> {
+    let mut o = o.clone();
+    o.initial = from.params.as_initial();
+    let names = parameter_map(p, &o).ok()?.free_names();
+    let has = |n: &str| names.iter().any(|x| x == n);
+    o.initial.retain(|(n, _)| {
+        // keep only names the extended map knows (a law parameter of the nested model may not be)
+        !(n.starts_with("vc") || n.starts_with('c')) || has(n)
+    });
+    if has("vc1") && !from.params.law_params.contains_key("vc1") {
+        return [1e-3, 0.3, 3.0]
+            .iter()
+            .filter_map(|&m| {
+                let mut oc = o.clone();
+                oc.initial.push(("vc1".into(), m * vmin));
+                fit(p, &oc).ok()
+            })
+            .min_by(|a, b| a.rms.total_cmp(&b.rms));
+    }
+    fit(p, &o).ok()
+}
+
+/// Per-event refits: each velocity step and each hold-and-reslide, fitted alone (from the second
+/// half of the sliding before it to the end of the segment after it) with the baseline law.
+fn event_windows(p: &Prepared) -> Vec<(usize, usize)> {
+    let s = &p.segments;
+    let mut out = vec![];
+    for j in 1..s.len() {
+        if s[j].v <= 0.0 {
+            continue;
+        }
+        // the last sliding segment before j
+        let Some(prev) = (0..j).rev().find(|&i| s[i].v > 0.0) else { continue };
+        out.push((prev, j));
+    }
+    out
+}
+
+fn fit_event(p: &Prepared, opts: &FitOptions, base: &FitResult, prev: usize, j: usize) -> Option<EventFit> {
+    let s = &p.segments;
+    // the forward model runs from the start of the record (so the state entering the window is
+    // the model's own, not an assumed steady state), the misfit counts only from the second half
+    // of the sliding before the event to the end of the segment after it
+    let mid = (s[prev].i0 + s[prev].i1) / 2;
+    let mut o = FitOptions {
+        laws: opts.laws.clone(),
+        mu0_per_segment: false,
+        fit_slip_trend: false,
+        fit_stiffness: false,
+        weighting: crate::fit::Weighting::Uniform,
+        starts: 2,
+        time_budget: 3.0,
+        initial: base.params.as_initial(),
+        ..opts.clone()
+    };
+    o.initial.retain(|(n, _)| n != "mu0");
+    let mut pw = prepare(&p.record, &s[..=j], &o).ok()?;
+    let keep: Vec<usize> = (0..pw.used.len()).filter(|&r| pw.used[r] >= mid).collect();
+    if keep.len() < 10 {
+        return None;
+    }
+    pw.used = keep.iter().map(|&r| pw.used[r]).collect();
+    pw.seg_of = keep.iter().map(|&r| pw.seg_of[r]).collect();
+    pw.weights = vec![1.0; keep.len()];
+    let f = fit(&pw, &o).ok()?;
+    let ci = f.ci95.get("dc1")?;
+    // the interval assumes independent noise: widen it by sqrt(n/n_eff) of the window residuals
+    let inflate = (f.n as f64 / n_eff_of(&f)).sqrt();
+    let hold = (j > prev + 1).then(|| (prev + 1..j).map(|i| s[i].t1 - s[i].t0).sum::<f64>());
+    Some(EventFit {
+        event: if hold.is_some() { "hold" } else { "step" }.into(),
+        t: s[j].t0,
+        v_before: s[prev].v,
+        v_after: s[j].v,
+        hold_s: hold,
+        a: f.params.a,
+        b: f.params.b[0],
+        dc: f.params.dc[0],
+        ln_dc_stderr: inflate * ((ci[1] / ci[0]).ln() / (2.0 * 1.96)).abs(),
+        rms: f.rms,
+    })
+}
+
+/// Consistency of the per-event Dc: reduced χ² of ln Dc about its weighted mean, and the slopes
+/// of ln Dc against ln(step ratio) and ln(hold duration).
+fn dc_consistency(ev: &[EventFit]) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let ok: Vec<&EventFit> = ev.iter().filter(|e| e.ln_dc_stderr.is_finite() && e.ln_dc_stderr > 0.0).collect();
+    let chi2 = (ok.len() >= 2).then(|| {
+        let w: Vec<f64> = ok.iter().map(|e| 1.0 / e.ln_dc_stderr.powi(2)).collect();
+        let m = ok.iter().zip(&w).map(|(e, w)| w * e.dc.ln()).sum::<f64>() / w.iter().sum::<f64>();
+        ok.iter().zip(&w).map(|(e, w)| w * (e.dc.ln() - m).powi(2)).sum::<f64>() / (ok.len() - 1) as f64
+    });
+    let line = |pts: Vec<(f64, f64)>| -> Option<f64> {
+        let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
+        slope_t(&x, &y, x.len() as f64).map(|s| s.0)
+    };
+    let steps = ok.iter().filter(|e| e.hold_s.is_none()).map(|e| ((e.v_after / e.v_before).ln(), e.dc.ln())).collect();
+    let holds = ok.iter().filter_map(|e| e.hold_s.map(|h| (h.ln(), e.dc.ln()))).collect();
+    (chi2, line(steps), line(holds))
+}
+
+enum Job {
+    BaselineHeldout,
+    Candidate(&'static str),
+    Event(usize, usize),
+}
+
+enum Done {
+    Heldout(Option<f64>),
+    Candidate(Option<Candidate>),
+    Event(Option<EventFit>),
+}
+
+/// Runs the diagnosis on a record with its segments.
+pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
+    let base_opts = &opts.fit;
+    if base_opts.laws.len() != 1 {
+        return Err(FitError::Setup("the baseline has one state variable".into()));
+    }
+    let timing = std::env::var_os("RSF_DIAGNOSE_TIMING").is_some();
+    let clock = std::time::Instant::now();
+    let base_law = base_opts.laws[0].name();
+    let p: Prepared = prepare(rec, segs, base_opts)?;
+    let base = fit(&p, base_opts)?;
+    if timing {
+        eprintln!("diagnose: baseline fitted in {:.2} s", clock.elapsed().as_secs_f64());
+    }
+    let mut ev = evidence(&base);
+    let t_split = split_time(&p.record, &p.segments);
+    let vmin = p.segments.iter().filter(|s| s.v > 0.0).map(|s| s.v).fold(f64::INFINITY, f64::min);
+    // a candidate the data cannot constrain (e.g. b2 running to its bound) must not dominate the
+    // run time: each candidate fit gets a third of the baseline budget
+    let cand_opts = FitOptions { time_budget: (base_opts.time_budget / 3.0).max(2.0), ..base_opts.clone() };
+    let mut jobs = vec![];
+    if opts.heldout {
+        jobs.push(Job::BaselineHeldout);
+    }
+    for c in CAUSES {
+        if c == "stiffness" && base_opts.fit_stiffness {
+            continue;
+        }
+        jobs.push(Job::Candidate(c));
+    }
+    if opts.per_segment {
+        jobs.extend(event_windows(&p).into_iter().map(|(a, b)| Job::Event(a, b)));
+    }
+    let done_count = std::sync::atomic::AtomicUsize::new(0);
+    let total = jobs.len();
+    let report = |what: &str| {
+        let d = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(pr) = &opts.progress {
+            pr(d, total, what);
+        }
+    };
+    let run_candidate = |cause: &'static str| -> Option<Candidate> {
+        let t = std::time::Instant::now();
+        let o = extend(&cand_opts, cause, &base_law)?;
+        let pc = prepare(rec, segs, &o).ok()?;
+        let f = fit_from(&pc, &o, &base, vmin)?;
+        let (dbic, daic) = scores(&base, &f, ev.n_effective);
+        let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, &f, t_split) } else { None };
+        Some(Candidate {
             cause: cause.into(),
-            extension: ext,
+            extension: describe(cause, &base_law),
             delta_bic: dbic,
             delta_aic: daic,
             rms_ratio: f.rms / base.rms,
-            heldout_rms_before: ho_base,
+            heldout_rms_before: None,
             heldout_rms_after: ho,
-            effect,
+            effect: effect_of(cause, &f),
+            seconds: t.elapsed().as_secs_f64(),
             fit: Some(f),
-        });
+        })
+    };
+    let results = par_map(&jobs, opts.threads, |job| {
+        let t = std::time::Instant::now();
+        let (what, out) = match job {
+            Job::BaselineHeldout => (
+                "held-out baseline".to_string(),
+                Done::Heldout(heldout(&p.record, &p.segments, base_opts, &base, t_split)),
+            ),
+            Job::Candidate(c) => (c.to_string(), Done::Candidate(run_candidate(c))),
+            Job::Event(a, b) => (format!("segment {}", b + 1), Done::Event(fit_event(&p, base_opts, &base, *a, *b))),
+        };
+        if timing {
+            eprintln!("diagnose: {what} in {:.2} s", t.elapsed().as_secs_f64());
+        }
+        report(&what);
+        out
+    });
+    let mut ho_base = None;
+    let mut candidates = vec![];
+    let mut per_segment = vec![];
+    for r in results {
+        match r {
+            Done::Heldout(h) => ho_base = h,
+            Done::Candidate(Some(c)) => candidates.push(c),
+            Done::Candidate(None) => {}
+            Done::Event(e) => per_segment.extend(e),
+        }
     }
+    for c in candidates.iter_mut() {
+        c.heldout_rms_before = ho_base;
+    }
+    (ev.dc_consistency_chi2, ev.dc_vs_ln_step, ev.dc_vs_ln_hold) = dc_consistency(&per_segment);
     candidates.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
-    let best = candidates.first();
-    let heldout_ok = |c: &Candidate| match (c.heldout_rms_before, c.heldout_rms_after) {
+    let heldout_ok = |b: Option<f64>, a: Option<f64>| match (b, a) {
         (Some(b), Some(a)) => a <= 1.05 * b,
         _ => true,
     };
-    let chosen = best.filter(|c| c.delta_bic < DECISIVE && heldout_ok(c));
-    let runner_up = candidates.get(if chosen.is_some() { 1 } else { 0 }).map(|c| (c.cause.clone(), c.delta_bic));
+    // the best-scoring candidate that is decisive and does not predict the held-out part worse
+    // (an extension that fits the training data better but predicts worse is overfitting)
+    let rejected: Vec<&Candidate> = candidates
+        .iter()
+        .take_while(|c| c.delta_bic < DECISIVE && !heldout_ok(c.heldout_rms_before, c.heldout_rms_after))
+        .collect();
+    let chosen = candidates
+        .get(rejected.len())
+        .filter(|c| c.delta_bic < DECISIVE && heldout_ok(c.heldout_rms_before, c.heldout_rms_after));
+    let runner_up =
+        candidates.iter().find(|c| chosen.is_none_or(|ch| ch.cause != c.cause)).map(|c| (c.cause.clone(), c.delta_bic));
+    let rejected_note = if rejected.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " ({} scored better but predicted the held-out part worse)",
+            rejected.iter().map(|c| c.cause.as_str()).collect::<Vec<_>>().join(", ")
+        )
+    };
+    // a second cause: the winner combined with each other decisive candidate, scored against
+    // the winner alone with the winner's n_eff
+    let secondary = match chosen {
+        Some(c1) if opts.combinations => {
+            let f1 = c1.fit.as_ref().expect("candidates carry their fit");
+            let others: Vec<&Candidate> =
+                candidates.iter().skip(1).filter(|c| c.delta_bic < DECISIVE && c.cause != c1.cause).collect();
+            let n1 = n_eff_of(f1);
+            let o1 = extend(&cand_opts, &c1.cause, &base_law);
+            let tries = par_map(&others, opts.threads, |c2| -> Option<Secondary> {
+                let o = extend(o1.as_ref()?, &c2.cause, &base_law)?;
+                let pc = prepare(rec, segs, &o).ok()?;
+                let f = fit_from(&pc, &o, f1, vmin)?;
+                let (dbic, _) = scores(f1, &f, n1);
+                let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, &f, t_split) } else { None };
+                Some(Secondary {
+                    cause: c2.cause.clone(),
+                    delta_bic: dbic,
+                    rms_ratio: f.rms / f1.rms,
+                    heldout_rms_before: c1.heldout_rms_after,
+                    heldout_rms_after: ho,
+                    effect: effect_of(&format!("{}+{}", c1.cause, c2.cause), &f),
+                    fit: f,
+                })
+            });
+            tries
+                .into_iter()
+                .flatten()
+                .filter(|s| s.delta_bic < DECISIVE && heldout_ok(s.heldout_rms_before, s.heldout_rms_after))
+                .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+        }
+        _ => None,
+    };
     let (cause, reason, extended, gain, effect, confidence) = match chosen {
         Some(c) => (
             c.cause.clone(),
             format!(
-                "{} improves the fit decisively: ΔBIC = {:.1} with n_eff = {:.0} (threshold {DECISIVE}), rms ratio {:.3}{}",
+                "{} improves the fit decisively: ΔBIC = {:.1} with n_eff = {:.0} (threshold {DECISIVE}), rms ratio {:.3}{}{}{}",
                 c.extension,
                 c.delta_bic,
                 ev.n_effective,
@@ -343,7 +708,12 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 match (c.heldout_rms_before, c.heldout_rms_after) {
                     (Some(b), Some(a)) => format!(", held-out rms {b:.2e} → {a:.2e}"),
                     _ => String::new(),
-                }
+                },
+                match &secondary {
+                    Some(s) => format!("; adding {} gains a further ΔBIC = {:.1}", s.cause, s.delta_bic),
+                    None => String::new(),
+                },
+                rejected_note
             ),
             c.fit.clone(),
             Some(Gain {
@@ -358,19 +728,22 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ),
         None => (
             "none".into(),
-            match best {
+            match candidates.first() {
                 Some(b) => format!(
-                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {:.0}",
-                    b.extension, b.delta_bic, ev.n_effective
+                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {:.0}{}",
+                    b.extension, b.delta_bic, ev.n_effective, rejected_note
                 ),
                 None => "no candidate could be fitted".into(),
             },
             None,
             None,
             BTreeMap::new(),
-            best.map(|b| b.delta_bic).unwrap_or(0.0),
+            candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
         ),
     };
+    if timing {
+        eprintln!("diagnose: total {:.2} s", clock.elapsed().as_secs_f64());
+    }
     Ok(Diagnosis {
         cause,
         confidence,
@@ -382,5 +755,19 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         effect,
         runner_up,
         candidates,
+        secondary,
+        per_segment,
+        heldout_split_t: t_split,
     })
+}
+
+fn describe(cause: &str, base_law: &str) -> String {
+    let other = if base_law == "aging" { "slip" } else { "aging" };
+    match cause {
+        "evolution_law" => format!("{other} law instead of {base_law}"),
+        "second_state_variable" => format!("second state variable ({base_law})"),
+        "cutoff_velocity" => "Kato–Tullis law with cut-off velocity Vc".into(),
+        "slip_trend" => "slip trend g·slip".into(),
+        _ => "stiffness fitted".into(),
+    }
 }

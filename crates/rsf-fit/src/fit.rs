@@ -164,6 +164,21 @@ pub struct Params {
     pub mu0_offsets: Vec<f64>,
 }
 
+impl Params {
+    /// These parameters as `FitOptions::initial` starting values (`mu0`, `a`, `k`, `g`, `b1`,
+    /// `dc1`, …, law parameters such as `vc1`): to restart a related fit from an optimum.
+    pub fn as_initial(&self) -> Vec<(String, f64)> {
+        let mut v =
+            vec![("mu0".to_string(), self.mu0), ("a".into(), self.a), ("k".into(), self.k), ("g".into(), self.g)];
+        for (i, (b, dc)) in self.b.iter().zip(&self.dc).enumerate() {
+            v.push((format!("b{}", i + 1), *b));
+            v.push((format!("dc{}", i + 1), *dc));
+        }
+        v.extend(self.law_params.iter().map(|(n, x)| (n.clone(), *x)));
+        v
+    }
+}
+
 /// The result of a fit.
 #[derive(Clone, Debug, Serialize)]
 pub struct FitResult {
@@ -183,7 +198,8 @@ pub struct FitResult {
     pub n: usize,
     /// Number of free parameters.
     pub n_free: usize,
-    /// Gaussian log-likelihood at the optimum (σ estimated).
+    /// Gaussian log-likelihood at the optimum, σ estimated, of the weighted model (noise σ/w_r
+    /// at sample r; the usual one for uniform weights).
     pub log_likelihood: f64,
     /// Akaike information criterion (free parameters + σ).
     pub aic: f64,
@@ -225,6 +241,8 @@ pub struct Curve {
     pub model: Vec<f64>,
     /// Segment index (0-based) of each sample.
     pub segment: Vec<usize>,
+    /// Model slip rate V at each sample, µm/s (empty if the extra forward solve failed).
+    pub slip_rate: Vec<f64>,
 }
 
 /// How a full-vector entry depends on θ.
@@ -669,6 +687,14 @@ pub fn model_curve(
     Ok(mu)
 }
 
+/// Model slip rate at the used samples for the full parameter vector (for residuals against
+/// log V): one forward solve.
+fn model_slip_rate(p: &Prepared, map: &ParamMap, opts: &FitOptions, full: &[f64]) -> Result<Vec<f64>, SolveError> {
+    let model = map.model(opts, full, p.v_init).map_err(SolveError::Input)?;
+    let alg = rsf_solvers::Dopri5 { max_steps: FIT_MAX_STEPS, ..rsf_solvers::Dopri5::new(opts.rtol, opts.rtol * 1e-4) };
+    Ok(rsf_solvers::solve(&forward_problem(p, opts, model), &alg)?.slip_rate)
+}
+
 /// The forward problem of a fit for `model`: loading and output at the used samples.
 fn forward_problem(p: &Prepared, opts: &FitOptions, model: Model) -> Problem {
     let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();
@@ -728,18 +754,38 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         o1.laws.truncate(1);
         o1.fix.retain(|c| !c.contains('2') && !c.contains('3'));
         o1.initial.retain(|(n, _)| !n.contains('2') && !n.contains('3'));
-        if let Ok(r1) = fit(p, &o1) {
+        // a caller that gives the first state's start (diagnosis: the baseline optimum) spares
+        // the nested one-state fit
+        let given = |n: &str| opts.initial.iter().any(|(x, _)| x == n);
+        let r1 = if given("b1") && given("dc1") && given("a") && given("mu0") {
+            let f = |i: usize| map.base[i];
+            Ok(Params {
+                mu0: f(0),
+                v0: p.v_init,
+                a: f(1),
+                b: vec![f(state_offset(0))],
+                dc: vec![f(state_offset(0) + 1)],
+                k: f(2),
+                g: f(3),
+                laws: vec![],
+                law_params: BTreeMap::new(),
+                mu0_offsets: vec![],
+            })
+        } else {
+            fit(p, &o1).map(|r| r.params)
+        };
+        if let Ok(r1) = r1 {
             for sign in [1.0, -1.0] {
                 let mut full = map.base.clone();
-                full[0] = r1.params.mu0;
-                full[1] = r1.params.a;
-                full[2] = r1.params.k;
-                full[3] = r1.params.g;
-                full[state_offset(0)] = r1.params.b[0];
-                full[state_offset(0) + 1] = r1.params.dc[0];
+                full[0] = r1.mu0;
+                full[1] = r1.a;
+                full[2] = r1.k;
+                full[3] = r1.g;
+                full[state_offset(0)] = r1.b[0];
+                full[state_offset(0) + 1] = r1.dc[0];
                 for i in 1..opts.laws.len() {
-                    full[state_offset(i)] = sign * 0.2 * r1.params.b[0].abs();
-                    full[state_offset(i) + 1] = r1.params.dc[0] * 10f64.powi(i as i32);
+                    full[state_offset(i)] = sign * 0.2 * r1.b[0].abs();
+                    full[state_offset(i) + 1] = r1.dc[0] * 10f64.powi(i as i32);
                 }
                 starts.insert(0, map.theta_of(&full));
             }
@@ -856,7 +902,12 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         })
         .map(|&i| map.names[i].clone())
         .collect();
-    let ll = -0.5 * n as f64 * ((2.0 * std::f64::consts::PI * ssr_raw / n as f64).ln() + 1.0);
+    // the likelihood of what the fit minimises: noise σ/w_r at sample r (w normalised to mean
+    // square 1; uniform weights give the usual Gaussian likelihood), so that models compared by
+    // AIC/BIC are compared on the objective they were fitted to
+    let ssr_w: f64 = resid.iter().zip(&p.weights).map(|(x, w)| (w * x).powi(2)).sum();
+    let sum_ln_w: f64 = p.weights.iter().map(|w| w.ln()).sum();
+    let ll = sum_ln_w - 0.5 * n as f64 * ((2.0 * std::f64::consts::PI * ssr_w / n as f64).ln() + 1.0);
     let kf = (m + 1) as f64;
     let np = n_params(map.n_states);
     let params = Params {
@@ -895,6 +946,7 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         data,
         model: e.model_mu,
         segment: p.seg_of.clone(),
+        slip_rate: model_slip_rate(p, &map, opts, &full).unwrap_or_default(),
     };
     Ok(FitResult {
         params,
