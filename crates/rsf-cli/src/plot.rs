@@ -11,7 +11,9 @@ fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+    // a degenerate range (one point, or all equal) gets a visible span around it
+    let pad =
+        if hi - lo > 1e-9 * hi.abs().max(lo.abs()).max(1e-300) { (hi - lo) * 0.05 } else { 0.1 * hi.abs().max(1e-6) };
     (lo - pad, hi + pad)
 }
 
@@ -176,15 +178,12 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
     Ok(())
 }
 
+/// A scatter series: label, colour, points, error bars in y (empty: none).
+type Series = (String, RGBColor, Vec<(f64, f64)>, Vec<f64>);
+
 /// One scatter panel as an inline SVG string: series of (label, colour, points), optional
 /// error bars in y (same length as the points, or empty).
-fn scatter_svg(
-    title: &str,
-    x_desc: &str,
-    y_desc: &str,
-    series: &[(String, RGBColor, Vec<(f64, f64)>, Vec<f64>)],
-    zero_line: bool,
-) -> Result<String> {
+fn scatter_svg(title: &str, x_desc: &str, y_desc: &str, series: &[Series], zero_line: bool) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (490, 340)).into_drawing_area();
@@ -345,7 +344,7 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
     let steps: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_none()).collect();
     let holds: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_some()).collect();
     let mut dc_svgs = String::new();
-    if !steps.is_empty() {
+    if steps.len() >= 2 {
         let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc.log10())).collect();
         let err = steps.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
         dc_svgs += &scatter_svg(
@@ -356,7 +355,7 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
             false,
         )?;
     }
-    if !holds.is_empty() {
+    if holds.len() >= 2 {
         let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(1.0).log10(), e.dc.log10())).collect();
         let err = holds.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
         dc_svgs += &scatter_svg(

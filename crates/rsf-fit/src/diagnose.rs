@@ -543,7 +543,7 @@ enum Job {
 
 enum Done {
     Heldout(Option<f64>),
-    Candidate(Option<Candidate>),
+    Candidate(Option<Box<Candidate>>),
     Event(Option<EventFit>),
 }
 
@@ -615,7 +615,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 "held-out baseline".to_string(),
                 Done::Heldout(heldout(&p.record, &p.segments, base_opts, &base, t_split)),
             ),
-            Job::Candidate(c) => (c.to_string(), Done::Candidate(run_candidate(c))),
+            Job::Candidate(c) => (c.to_string(), Done::Candidate(run_candidate(c).map(Box::new))),
             Job::Event(a, b) => (format!("segment {}", b + 1), Done::Event(fit_event(&p, base_opts, &base, *a, *b))),
         };
         if timing {
@@ -630,7 +630,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     for r in results {
         match r {
             Done::Heldout(h) => ho_base = h,
-            Done::Candidate(Some(c)) => candidates.push(c),
+            Done::Candidate(Some(c)) => candidates.push(*c),
             Done::Candidate(None) => {}
             Done::Event(e) => per_segment.extend(e),
         }
