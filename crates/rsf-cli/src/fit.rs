@@ -350,13 +350,14 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     );
     let opt = |x: Option<f64>, p: usize| x.map_or("–".to_string(), |v| format!("{v:.p$}"));
     out += &format!(
-        "residual vs ln V: slope {} (t = {}); per-event Dc: χ²/dof {}, d ln Dc/d ln(step) {}, d ln Dc/d ln(hold) {} over {} events\n",
+        "residual vs ln V: slope {} (t = {}); per-event Dc: χ²/dof {}, d ln Dc/d ln(step) {}, d ln Dc/d ln(hold) {} over {} events; k from reload slopes {}\n",
         d.evidence.residual_vs_ln_v.map_or("–".into(), |v| format!("{v:.2e}")),
         opt(d.evidence.residual_vs_ln_v_t, 1),
         opt(d.evidence.dc_consistency_chi2, 1),
         opt(d.evidence.dc_vs_ln_step, 2),
         opt(d.evidence.dc_vs_ln_hold, 2),
-        d.per_segment.len()
+        d.per_segment.len(),
+        d.evidence.k_reload_slope.map_or("–".into(), |k| format!("{k:.3e}/µm"))
     );
     out += &format!(
         "{:24} {:>10} {:>10} {:>10} {:>7} {:>22}  effect\n",

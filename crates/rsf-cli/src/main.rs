@@ -88,7 +88,7 @@ enum Command {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
-        /// Velocity ratio below which neighbouring segments are one (default 1.3).
+        /// Velocity ratio below which neighbouring segments are one.
         #[arg(long, default_value_t = 1.3)]
         min_ratio: f64,
         /// Shortest segment (s); shorter pieces (servo oscillation, noise bursts) join a neighbour.

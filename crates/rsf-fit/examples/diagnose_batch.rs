@@ -16,6 +16,9 @@ use rsf_fit::segment::{SegmentOptions, detect};
 use rsf_fit::synthetic::{Noise, SampledSegment, record};
 use rsf_laws::{Aging, KatoTullis, Slip, law_by_name};
 
+/// Noise standard deviation in friction.
+const SIGMA: f64 = 2e-4;
+
 fn protocol() -> Vec<SampledSegment> {
     rsf_fit::synthetic::step_hold_protocol()
 }
@@ -92,7 +95,7 @@ fn main() {
             );
         }
     }
-    let results: Vec<(usize, String, Option<f64>, f64)> = std::thread::scope(|sc| {
+    let results: Vec<(usize, String, Option<f64>, f64, f64)> = std::thread::scope(|sc| {
         let chunks: Vec<Vec<(usize, &Case)>> =
             (0..2).map(|t| cases.iter().enumerate().filter(|(i, _)| i % 2 == t).collect()).collect();
         let hs: Vec<_> = chunks
@@ -103,17 +106,33 @@ fn main() {
                         .into_iter()
                         .map(|(i, c)| {
                             let rec =
-                                record(&c.truth, 1.0, &protocol(), Noise { sigma: 2e-4, tau: c.tau }, c.seed).unwrap();
+                                record(&c.truth, 1.0, &protocol(), Noise { sigma: SIGMA, tau: c.tau }, c.seed).unwrap();
                             let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
                             let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], c.k_nominal);
                             fit.loading = LoadingMode::Protocol;
                             let t = std::time::Instant::now();
                             match diagnose(&rec, &segs, &DiagnoseOptions { threads: 1, ..DiagnoseOptions::new(fit) }) {
                                 Ok(d) => {
+                                    let secs = t.elapsed().as_secs_f64();
                                     let est = c.param.and_then(|(k, _)| d.effect.get(k).and_then(|v| v.as_f64()));
-                                    (i, d.cause, est, t.elapsed().as_secs_f64())
+                                    // how visible the effect is: rms of (baseline fit − noise-free
+                                    // truth) over the noise σ; below 1 the effect hides in the noise
+                                    let clean =
+                                        record(&c.truth, 1.0, &protocol(), Noise { sigma: 0.0, tau: 0.0 }, 0).unwrap();
+                                    let bc = &d.baseline.curve;
+                                    let ss: f64 = bc
+                                        .time
+                                        .iter()
+                                        .zip(&bc.model)
+                                        .map(|(t, m)| {
+                                            let j = clean.time.partition_point(|x| x < t).min(clean.len() - 1);
+                                            (m - clean.mu[j]).powi(2)
+                                        })
+                                        .sum();
+                                    let vis = (ss / bc.time.len() as f64).sqrt() / SIGMA;
+                                    (i, d.cause, est, secs, vis)
                                 }
-                                Err(e) => (i, format!("error: {e}"), None, t.elapsed().as_secs_f64()),
+                                Err(e) => (i, format!("error: {e}"), None, t.elapsed().as_secs_f64(), f64::NAN),
                             }
                         })
                         .collect::<Vec<_>>()
@@ -125,10 +144,10 @@ fn main() {
         all
     });
     println!(
-        "| hidden cause | effect size | noise | named cause | parameter (truth → found) | time |\n|---|---|---|---|---|---|"
+        "| hidden cause | effect size | baseline misfit of the effect / σ | noise | named cause | parameter (truth → found) | time |\n|---|---|---|---|---|---|---|"
     );
     let mut tally: std::collections::BTreeMap<&str, (usize, usize, usize)> = Default::default();
-    for (i, cause, est, secs) in &results {
+    for (i, cause, est, secs, vis) in &results {
         let c = &cases[*i];
         let hit = cause == c.cause;
         let within = match (c.param, est) {
@@ -141,9 +160,10 @@ fn main() {
         e.1 += usize::from(hit);
         e.2 += usize::from(hit && within);
         println!(
-            "| {} | {} | {} | {}{} | {} | {:.1} s |",
+            "| {} | {} | {:.2} | {} | {}{} | {} | {:.1} s |",
             c.cause,
             c.size,
+            vis,
             if c.tau > 0.0 { "AR(1) τ = 3 s" } else { "white" },
             cause,
             if hit { " ✓" } else { " ✗" },

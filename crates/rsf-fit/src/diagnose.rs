@@ -89,6 +89,10 @@ pub struct Evidence {
     pub dc_vs_ln_step: Option<f64>,
     /// Slope of ln Dc against ln(hold duration) over the holds.
     pub dc_vs_ln_hold: Option<f64>,
+    /// Machine stiffness (1/µm) from the elastic reloading slope at up-steps and reslides
+    /// (median over events; the reload-slope method): a nominal k far from it points at
+    /// `stiffness`.
+    pub k_reload_slope: Option<f64>,
 }
 
 /// One step or hold refitted alone with the baseline law (free mu0, a, b, Dc).
@@ -262,7 +266,67 @@ fn evidence(base: &FitResult) -> Evidence {
         dc_consistency_chi2: None,
         dc_vs_ln_step: None,
         dc_vs_ln_hold: None,
+        k_reload_slope: None,
     }
+}
+
+/// Stiffness from the reloading slope dμ/dx_lp at the onset of up-steps and reslides. While the
+/// friction rises through its direct effect, dμ/dx_lp = k (1 − V/V_lp); with V growing as
+/// exp(Δμ/a) from V_before, a sample at fraction f of the rise to the peak has
+/// V/V_lp ≈ (V_before/V_lp)^(1−f). The slope is fitted over f in [0.05, 0.4] and divided by the
+/// mean of 1 − (V_before/V_lp)^(1−f) there (1 after a hold). Median over the events; `None`
+/// when no event has four samples in that band.
+fn reload_stiffness(p: &Prepared) -> Option<f64> {
+    let s = &p.segments;
+    let r = &p.record;
+    let mut ks = vec![];
+    for j in 1..s.len() {
+        let Some(prev) = (0..j).rev().find(|&i| s[i].v > 0.0) else { continue };
+        let (vb, va) = (if prev + 1 < j { 0.0 } else { s[prev].v }, s[j].v);
+        if !(va > 1.5 * vb) {
+            continue;
+        }
+        let (i0, i1) = (s[j].i0, s[j].i1);
+        let mu0 = r.mu[i0];
+        // the peak: the largest friction before it first falls back by a third of the rise
+        let mut ip = i0;
+        for i in i0..=i1 {
+            if r.mu[i] > r.mu[ip] {
+                ip = i;
+            } else if r.mu[ip] - r.mu[i] > (r.mu[ip] - mu0) / 3.0 {
+                break;
+            }
+        }
+        let rise = r.mu[ip] - mu0;
+        if !(rise > 0.0) {
+            continue;
+        }
+        let ratio = vb / va;
+        let (mut xs, mut ys, mut corr) = (vec![], vec![], 0.0);
+        for i in i0..=ip {
+            let f = (r.mu[i] - mu0) / rise;
+            if (0.05..=0.4).contains(&f) {
+                xs.push(r.load_point[i]);
+                ys.push(r.mu[i]);
+                corr += 1.0 - ratio.powf(1.0 - f);
+            }
+        }
+        if xs.len() < 4 {
+            continue;
+        }
+        let n = xs.len() as f64;
+        if let Some((slope, _)) = slope_t(&xs, &ys, n) {
+            let k = slope / (corr / n);
+            if k > 0.0 && k.is_finite() {
+                ks.push(k);
+            }
+        }
+    }
+    if ks.is_empty() {
+        return None;
+    }
+    ks.sort_by(f64::total_cmp);
+    Some(ks[ks.len() / 2])
 }
 
 /// ΔBIC and ΔAIC of `ext` against `base` with the log-likelihood scaled to n_eff.
@@ -436,8 +500,9 @@ fn effect_of(cause: &str, f: &FitResult) -> BTreeMap<String, serde_json::Value> 
 /// is the Slip law, but there its gradient in Vc vanishes).
 fn fit_from(p: &Prepared, o: &FitOptions, from: &FitResult, vmin: f64) -> Option<FitResult> {
     let mut o = o.clone();
-    o.initial = from.params.as_initial();
+    o.initial.clear();
     let names = parameter_map(p, &o).ok()?.free_names();
+    o.initial = from.params.as_initial();
     let has = |n: &str| names.iter().any(|x| x == n);
     o.initial.retain(|(n, _)| {
         // keep only names the extended map knows (a law parameter of the nested model may not be)
@@ -562,6 +627,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         eprintln!("diagnose: baseline fitted in {:.2} s", clock.elapsed().as_secs_f64());
     }
     let mut ev = evidence(&base);
+    ev.k_reload_slope = reload_stiffness(&p);
     let t_split = split_time(&p.record, &p.segments);
     let vmin = p.segments.iter().filter(|s| s.v > 0.0).map(|s| s.v).fold(f64::INFINITY, f64::min);
     // a candidate the data cannot constrain (e.g. b2 running to its bound) must not dominate the
@@ -592,7 +658,18 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         let t = std::time::Instant::now();
         let o = extend(&cand_opts, cause, &base_law)?;
         let pc = prepare(rec, segs, &o).ok()?;
-        let f = fit_from(&pc, &o, &base, vmin)?;
+        let mut f = fit_from(&pc, &o, &base, vmin)?;
+        // a stiff nominal k leaves no gradient in k (a rigid machine): also start from the
+        // reload-slope estimate when it differs
+        if cause == "stiffness" {
+            if let Some(k) = ev.k_reload_slope.filter(|k| (k / base.params.k).ln().abs() > 0.2) {
+                let mut from = base.clone();
+                from.params.k = k;
+                if let Some(g) = fit_from(&pc, &o, &from, vmin).filter(|g| g.rms < f.rms) {
+                    f = g;
+                }
+            }
+        }
         let (dbic, daic) = scores(&base, &f, ev.n_effective);
         let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, &f, t_split) } else { None };
         Some(Candidate {
@@ -673,9 +750,26 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             let n1 = n_eff_of(f1);
             let o1 = extend(&cand_opts, &c1.cause, &base_law);
             let tries = par_map(&others, opts.threads, |c2| -> Option<Secondary> {
+                let t = std::time::Instant::now();
                 let o = extend(o1.as_ref()?, &c2.cause, &base_law)?;
                 let pc = prepare(rec, segs, &o).ok()?;
-                let f = fit_from(&pc, &o, f1, vmin)?;
+                // from either optimum (the two extensions may explain overlapping parts of the
+                // residual, and LM from one side can stall where the other side's start does not)
+                let f2 = c2.fit.as_ref().expect("candidates carry their fit");
+                let f = [f1, f2]
+                    .into_iter()
+                    .filter_map(|from| fit_from(&pc, &o, from, vmin))
+                    .min_by(|a, b| a.rms.total_cmp(&b.rms));
+                if timing {
+                    eprintln!(
+                        "diagnose: {} + {} in {:.2} s: {}",
+                        c1.cause,
+                        c2.cause,
+                        t.elapsed().as_secs_f64(),
+                        f.as_ref().map_or("failed".to_string(), |f| format!("rms ratio {:.4}", f.rms / f1.rms))
+                    );
+                }
+                let f = f?;
                 let (dbic, _) = scores(f1, &f, n1);
                 let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, &f, t_split) } else { None };
                 Some(Secondary {

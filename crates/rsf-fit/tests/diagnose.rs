@@ -34,8 +34,13 @@ fn run(truth: &Model, k_nominal: f64, tau: f64, seed: u64) -> rsf_fit::diagnose:
     }
     let e = &d.evidence;
     println!(
-        "   per-event Dc χ²/dof {:?}, d lnDc/d ln step {:?}, d lnDc/d ln hold {:?}; residual vs ln V {:?} (t {:?})",
-        e.dc_consistency_chi2, e.dc_vs_ln_step, e.dc_vs_ln_hold, e.residual_vs_ln_v, e.residual_vs_ln_v_t
+        "   per-event Dc χ²/dof {:?}, d lnDc/d ln step {:?}, d lnDc/d ln hold {:?}; residual vs ln V {:?} (t {:?}); k reload {:?}",
+        e.dc_consistency_chi2,
+        e.dc_vs_ln_step,
+        e.dc_vs_ln_hold,
+        e.residual_vs_ln_v,
+        e.residual_vs_ln_v_t,
+        e.k_reload_slope
     );
     for ev in &d.per_segment {
         println!(
