@@ -376,6 +376,11 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
                 _ => "–".into(),
             },
             serde_json::to_string(&c.effect)?
+                + &if c.at_bound.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (at bound: {})", c.at_bound.join(", "))
+                }
         );
     }
     crate::write_stdout(&out)?;

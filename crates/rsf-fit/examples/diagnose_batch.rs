@@ -58,15 +58,20 @@ fn main() {
                 })
             };
             push("none", format!("noise only #{}", level + 1 + 5 * i), slip(base.clone()), k, None);
-            // the Aging law with a smaller and smaller evolution effect b − a
-            let bb = a + [0.004, 0.002, 0.001, 0.0005, 0.00025][level];
-            push(
-                "evolution_law",
-                format!("b−a = {:.2e}", bb - a),
-                base.clone().with_state(StateVariable::new(Aging, bb, dc)),
-                k,
-                None,
-            );
+            // healing partly by time: a share f of b follows the Aging law (same Dc), from pure
+            // Aging down to a few percent
+            let f = [1.0, 0.5, 0.25, 0.1, 0.05][level];
+            let mixed = if f == 1.0 {
+                base.clone().with_state(StateVariable::new(Aging, b, dc))
+            } else {
+                base.clone().with_state(StateVariable::new(Slip, b * (1.0 - f), dc)).with_state(StateVariable::new(
+                    Aging,
+                    b * f,
+                    dc,
+                ))
+            };
+            let share = (f < 1.0).then_some(("b_other_fraction", f));
+            push("evolution_law", format!("Aging share of b = {f}"), mixed, k, share);
             let b2 = [0.004, 0.002, 0.001, 0.0005, 0.00025][level];
             push(
                 "second_state_variable",
@@ -75,7 +80,7 @@ fn main() {
                 k,
                 Some(("dc2", 10.0 * dc)),
             );
-            let vc = [0.1, 0.03, 0.01, 0.003, 0.001][level];
+            let vc = [0.1, 0.01, 1e-3, 1e-4, 1e-5][level];
             push(
                 "cutoff_velocity",
                 format!("Vc = {vc:.0e} µm/s"),

@@ -141,9 +141,15 @@ pub struct Candidate {
     pub effect: BTreeMap<String, serde_json::Value>,
     /// Wall time of the candidate's fits, s.
     pub seconds: f64,
+    /// Free parameters of its fit that ended at a physical bound (such a candidate is not
+    /// named: the data do not constrain it).
+    pub at_bound: Vec<String>,
     /// The fit.
     #[serde(skip)]
     pub fit: Option<FitResult>,
+    /// The options it was fitted with (the base of combinations).
+    #[serde(skip)]
+    pub options: Option<FitOptions>,
 }
 
 /// The gain of the chosen extension.
@@ -382,16 +388,23 @@ fn heldout(rec: &Record, segs: &[Segment], opts: &FitOptions, start: &FitResult,
     (n > 0).then(|| (ss / n as f64).sqrt())
 }
 
-/// Where to split for the held-out test: the start of the segment nearest 2/3 of the record.
+/// Where to split for the held-out test: the start of the segment nearest 2/3 of the record
+/// (within 40–85% of it) such that the training part holds at least one velocity change; with
+/// no such segment (a record of one step or one hold), the later of 2/3 of the record and half
+/// way from the first change to the end, so that the training part sees the change and the
+/// start of the response.
 fn split_time(rec: &Record, segs: &[Segment]) -> f64 {
     let (t0, t1) = (rec.time[0], rec.time[rec.len() - 1]);
     let target = t0 + (t1 - t0) * 2.0 / 3.0;
+    // the first sliding segment after a change
+    let first_event = segs.iter().skip(1).find(|s| s.v > 0.0).map(|s| s.t0);
     segs.iter()
         .skip(2)
         .map(|s| s.t0)
+        .filter(|&t| first_event.is_some_and(|e| e < t))
         .filter(|t| (t - t0) > 0.4 * (t1 - t0) && (t - t0) < 0.85 * (t1 - t0))
         .min_by(|a, b| (a - target).abs().total_cmp(&(b - target).abs()))
-        .unwrap_or(target)
+        .unwrap_or_else(|| first_event.map_or(target, |e| target.max(e + 0.5 * (t1 - e))))
 }
 
 /// Maps `f` over `items` on `threads` threads (0: all cores), keeping order.
@@ -476,6 +489,10 @@ fn effect_of(cause: &str, f: &FitResult) -> BTreeMap<String, serde_json::Value> 
         match c {
             "evolution_law" => {
                 effect.insert("law".into(), serde_json::json!(pr.laws.join("+")));
+                if pr.b.len() == 2 {
+                    // share of the evolution effect carried by the other law
+                    effect.insert("b_other_fraction".into(), serde_json::json!(pr.b[1] / (pr.b[0] + pr.b[1])));
+                }
             }
             "second_state_variable" => {
                 effect.insert("b2".into(), serde_json::json!(pr.b.get(1)));
@@ -659,6 +676,27 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         let o = extend(&cand_opts, cause, &base_law)?;
         let pc = prepare(rec, segs, &o).ok()?;
         let mut f = fit_from(&pc, &o, &base, vmin)?;
+        let mut extension = describe(cause, &base_law);
+        let (mut o, mut pc) = (o, pc);
+        // the other law alone, or a mixture: a state of each law sharing one Dc (healing partly
+        // by time, partly by slip), whichever scores better
+        if cause == "evolution_law" {
+            let mut om = cand_opts.clone();
+            om.laws.push(builtin(if base_law == "aging" { "slip" } else { "aging" }));
+            om.fix.push("dc1-dc2=0".into());
+            if let Some((pm, fm)) = prepare(rec, segs, &om).ok().and_then(|pm| {
+                let fm = fit_from(&pm, &om, &base, vmin)?;
+                Some((pm, fm))
+            }) {
+                // a mixture has both states healing (b of one sign); b of opposite signs is a
+                // difference of laws, not a share of time-dependent healing
+                let mixture = fm.params.b[0] * fm.params.b[1] > 0.0;
+                if mixture && scores(&base, &fm, ev.n_effective).0 < scores(&base, &f, ev.n_effective).0 {
+                    extension = format!("a mixture: {base_law} and {} states sharing Dc", fm.params.laws[1]);
+                    (o, pc, f) = (om, pm, fm);
+                }
+            }
+        }
         // a stiff nominal k leaves no gradient in k (a rigid machine): also start from the
         // reload-slope estimate when it differs
         if cause == "stiffness" {
@@ -674,7 +712,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         let ho = if opts.heldout { heldout(&pc.record, &pc.segments, &o, &f, t_split) } else { None };
         Some(Candidate {
             cause: cause.into(),
-            extension: describe(cause, &base_law),
+            extension,
             delta_bic: dbic,
             delta_aic: daic,
             rms_ratio: f.rms / base.rms,
@@ -682,7 +720,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             heldout_rms_after: ho,
             effect: effect_of(cause, &f),
             seconds: t.elapsed().as_secs_f64(),
+            at_bound: f.at_bound.clone(),
             fit: Some(f),
+            options: Some(o),
         })
     };
     let results = par_map(&jobs, opts.threads, |job| {
@@ -721,24 +761,28 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         (Some(b), Some(a)) => a <= 1.05 * b,
         _ => true,
     };
-    // the best-scoring candidate that is decisive and does not predict the held-out part worse
-    // (an extension that fits the training data better but predicts worse is overfitting)
-    let rejected: Vec<&Candidate> = candidates
-        .iter()
-        .take_while(|c| c.delta_bic < DECISIVE && !heldout_ok(c.heldout_rms_before, c.heldout_rms_after))
-        .collect();
-    let chosen = candidates
-        .get(rejected.len())
-        .filter(|c| c.delta_bic < DECISIVE && heldout_ok(c.heldout_rms_before, c.heldout_rms_after));
+    // why a decisive candidate is not eligible: it predicts the held-out part worse (it fits
+    // the training data better but overfits), or its fit ran to a physical bound (the data do
+    // not constrain the extension: e.g. a second state turned into a linear trend)
+    let ineligible = |c: &Candidate| -> Option<String> {
+        if !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
+            Some(format!("{} predicted the held-out part worse", c.cause))
+        } else if !c.at_bound.is_empty() {
+            Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
+        } else {
+            None
+        }
+    };
+    let decisive: Vec<&Candidate> = candidates.iter().filter(|c| c.delta_bic < DECISIVE).collect();
+    let chosen = decisive.iter().copied().find(|c| ineligible(c).is_none());
+    let rejected: Vec<String> =
+        decisive.iter().take_while(|c| ineligible(c).is_some()).filter_map(|c| ineligible(c)).collect();
     let runner_up =
         candidates.iter().find(|c| chosen.is_none_or(|ch| ch.cause != c.cause)).map(|c| (c.cause.clone(), c.delta_bic));
     let rejected_note = if rejected.is_empty() {
         String::new()
     } else {
-        format!(
-            " ({} scored better but predicted the held-out part worse)",
-            rejected.iter().map(|c| c.cause.as_str()).collect::<Vec<_>>().join(", ")
-        )
+        format!(" (better-scoring but set aside: {})", rejected.join("; "))
     };
     // a second cause: the winner combined with each other decisive candidate, scored against
     // the winner alone with the winner's n_eff
@@ -746,9 +790,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         Some(c1) if opts.combinations => {
             let f1 = c1.fit.as_ref().expect("candidates carry their fit");
             let others: Vec<&Candidate> =
-                candidates.iter().skip(1).filter(|c| c.delta_bic < DECISIVE && c.cause != c1.cause).collect();
+                decisive.iter().copied().filter(|c| ineligible(c).is_none() && c.cause != c1.cause).collect();
             let n1 = n_eff_of(f1);
-            let o1 = extend(&cand_opts, &c1.cause, &base_law);
+            let o1 = c1.options.clone();
             let tries = par_map(&others, opts.threads, |c2| -> Option<Secondary> {
                 let t = std::time::Instant::now();
                 let o = extend(o1.as_ref()?, &c2.cause, &base_law)?;
@@ -785,7 +829,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             tries
                 .into_iter()
                 .flatten()
-                .filter(|s| s.delta_bic < DECISIVE && heldout_ok(s.heldout_rms_before, s.heldout_rms_after))
+                .filter(|s| {
+                    s.delta_bic < DECISIVE
+                        && heldout_ok(s.heldout_rms_before, s.heldout_rms_after)
+                        && s.fit.at_bound.is_empty()
+                })
                 .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
         }
         _ => None,

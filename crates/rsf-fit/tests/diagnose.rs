@@ -96,6 +96,18 @@ fn finds_an_aging_law_behind_a_slip_baseline() {
     assert!(e.dc_vs_ln_step.unwrap() > 0.1, "{e:?}");
 }
 
+/// A subtle evolution effect: a tenth of b heals by time (an Aging state sharing Dc with the
+/// Slip state). The mixture extension names it and recovers the share.
+#[test]
+fn finds_a_small_share_of_time_dependent_healing() {
+    let m = base().with_state(StateVariable::new(Slip, 0.0117, 8.0)).with_state(StateVariable::new(Aging, 0.0013, 8.0));
+    let d = run(&m, 0.005, 3.0, 9);
+    assert_eq!(d.cause, "evolution_law");
+    assert_eq!(d.effect["law"], "slip+aging");
+    let share = effect(&d, "b_other_fraction");
+    assert!((share / 0.1 - 1.0).abs() < 0.2, "Aging share {share}");
+}
+
 #[test]
 fn finds_a_second_state_variable() {
     let m = base().with_state(StateVariable::new(Slip, 0.010, 5.0)).with_state(StateVariable::new(Slip, 0.004, 60.0));
