@@ -340,31 +340,23 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
         series.push((ext_label.clone(), RED, vs_v(e), vec![]));
     }
     let per_v = scatter_svg("residuals against slip rate", "log10 V (model, µm/s)", "residual", &series, true)?;
-    // per-event Dc
-    let steps: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_none()).collect();
-    let holds: Vec<&rsf_fit::diagnose::EventFit> = d.per_segment.iter().filter(|e| e.hold_s.is_some()).collect();
+    // per-event Dc against step size and against hold duration
     let mut dc_svgs = String::new();
-    if steps.len() >= 2 {
-        let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc.log10())).collect();
-        let err = steps.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
-        dc_svgs += &scatter_svg(
-            "Dc refitted step by step",
-            "log10 (V after / V before)",
-            "log10 Dc (µm)",
-            &[("steps".into(), BLUE, pts, err)],
-            false,
-        )?;
-    }
-    if holds.len() >= 2 {
-        let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(1.0).log10(), e.dc.log10())).collect();
-        let err = holds.iter().map(|e| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
-        dc_svgs += &scatter_svg(
-            "Dc refitted hold by hold",
-            "log10 hold duration (s)",
-            "log10 Dc (µm)",
-            &[("holds".into(), RED, pts, err)],
-            false,
-        )?;
+    type Axis = fn(&rsf_fit::diagnose::EventFit) -> Option<f64>;
+    let panels: [(&str, &str, &str, RGBColor, Axis); 2] = [
+        ("Dc refitted step by step", "log10 (V after / V before)", "steps", BLUE, |e| {
+            e.hold_s.is_none().then(|| (e.v_after / e.v_before).log10())
+        }),
+        ("Dc refitted hold by hold", "log10 hold duration (s)", "holds", RED, |e| e.hold_s.map(f64::log10)),
+    ];
+    for (title, x_desc, label, color, x) in panels {
+        let ev: Vec<(f64, &rsf_fit::diagnose::EventFit)> =
+            d.per_segment.iter().filter_map(|e| x(e).map(|x| (x, e))).collect();
+        if ev.len() >= 2 {
+            let pts = ev.iter().map(|(x, e)| (*x, e.dc.log10())).collect();
+            let err = ev.iter().map(|(_, e)| e.ln_dc_stderr / std::f64::consts::LN_10).collect();
+            dc_svgs += &scatter_svg(title, x_desc, "log10 Dc (µm)", &[(label.into(), color, pts, err)], false)?;
+        }
     }
     let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
     let f = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.3e}"));

@@ -3,7 +3,7 @@
 //! with nothing hidden and for one with each effect, on all cores of this machine.
 //!
 //! ```text
-//! cargo run --release -p rsf-fit --example bench_diagnose
+//! cargo run --release -p rsf-fit --example bench_diagnose [-- CAUSE]
 //! ```
 
 use rsf_core::{Model, StateVariable};
@@ -35,7 +35,12 @@ fn main() {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     println!("| hidden | samples | cause found | median wall (3 runs, {threads} threads) |\n|---|---|---|---|");
     let mut all = vec![];
+    // `bench_diagnose CAUSE` runs one case only
+    let only = std::env::args().nth(1);
     for (i, (name, truth)) in cases.iter().enumerate() {
+        if only.as_deref().is_some_and(|o| o != *name) {
+            continue;
+        }
         let rec = record(truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 3.0 }, 100 + i as u64).unwrap();
         let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
         let mut times = vec![];

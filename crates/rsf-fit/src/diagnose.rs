@@ -789,21 +789,22 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let secondary = match chosen {
         Some(c1) if opts.combinations => {
             let f1 = c1.fit.as_ref().expect("candidates carry their fit");
-            let others: Vec<&Candidate> =
-                decisive.iter().copied().filter(|c| ineligible(c).is_none() && c.cause != c1.cause).collect();
+            // the two best other credible candidates: further ones explain less and cost as much
+            let others: Vec<&Candidate> = decisive
+                .iter()
+                .copied()
+                .filter(|c| ineligible(c).is_none() && c.cause != c1.cause)
+                .take(2)
+                .collect();
             let n1 = n_eff_of(f1);
             let o1 = c1.options.clone();
             let tries = par_map(&others, opts.threads, |c2| -> Option<Secondary> {
                 let t = std::time::Instant::now();
                 let o = extend(o1.as_ref()?, &c2.cause, &base_law)?;
                 let pc = prepare(rec, segs, &o).ok()?;
-                // from either optimum (the two extensions may explain overlapping parts of the
-                // residual, and LM from one side can stall where the other side's start does not)
-                let f2 = c2.fit.as_ref().expect("candidates carry their fit");
-                let f = [f1, f2]
-                    .into_iter()
-                    .filter_map(|from| fit_from(&pc, &o, from, vmin))
-                    .min_by(|a, b| a.rms.total_cmp(&b.rms));
+                // from the winner's optimum, the added extension at its neutral value (as the
+                // candidates start from the baseline's)
+                let f = fit_from(&pc, &o, f1, vmin);
                 if timing {
                     eprintln!(
                         "diagnose: {} + {} in {:.2} s: {}",
@@ -871,9 +872,14 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         None => (
             "none".into(),
             match candidates.first() {
+                Some(_) if !rejected.is_empty() => format!(
+                    "no extension is both decisive and credible: {} (n_eff = {:.0}); the baseline stands",
+                    rejected.join("; "),
+                    ev.n_effective
+                ),
                 Some(b) => format!(
-                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {:.0}{}",
-                    b.extension, b.delta_bic, ev.n_effective, rejected_note
+                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {:.0}",
+                    b.extension, b.delta_bic, ev.n_effective
                 ),
                 None => "no candidate could be fitted".into(),
             },
