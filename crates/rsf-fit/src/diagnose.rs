@@ -790,12 +790,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         Some(c1) if opts.combinations => {
             let f1 = c1.fit.as_ref().expect("candidates carry their fit");
             // the two best other credible candidates: further ones explain less and cost as much
-            let others: Vec<&Candidate> = decisive
-                .iter()
-                .copied()
-                .filter(|c| ineligible(c).is_none() && c.cause != c1.cause)
-                .take(2)
-                .collect();
+            let others: Vec<&Candidate> =
+                decisive.iter().copied().filter(|c| ineligible(c).is_none() && c.cause != c1.cause).take(2).collect();
             let n1 = n_eff_of(f1);
             let o1 = c1.options.clone();
             let tries = par_map(&others, opts.threads, |c2| -> Option<Secondary> {
