@@ -175,6 +175,7 @@ impl Params {
             v.push((format!("dc{}", i + 1), *dc));
         }
         v.extend(self.law_params.iter().map(|(n, x)| (n.clone(), *x)));
+        v.extend(self.mu0_offsets.iter().enumerate().map(|(k, x)| (format!("mu0_seg{}", k + 2), *x)));
         v
     }
 }
@@ -715,6 +716,9 @@ fn forward_problem(p: &Prepared, opts: &FitOptions, model: Model) -> Problem {
     problem
 }
 
+/// Appended to `FitResult::stop_reason` when the best start ran out of its time budget.
+pub const TIME_BUDGET_NOTE: &str = "time budget exhausted";
+
 /// Fits the model to the prepared record.
 pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     let map = parameter_map(p, opts)?;
@@ -723,8 +727,10 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     // each start after the first gets a time budget (a start that wanders into a stiff corner of
     // parameter space must not hold the fit up): past it, evaluations fail and LM gives up
     let deadline = std::cell::Cell::new(None::<std::time::Instant>);
+    let budget_hit = std::cell::Cell::new(false);
     let objective = |theta: &[f64]| -> Result<Eval, SolveError> {
         if deadline.get().is_some_and(|d| std::time::Instant::now() > d) {
+            budget_hit.set(true);
             return Err(SolveError::Input("time budget of this start exhausted".into()));
         }
         let e = evaluate(p, &map, opts, theta, opts.rtol)?;
@@ -798,6 +804,8 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     }
     starts.truncate(opts.starts.max(1) + if opts.laws.len() > 1 { 2 } else { 0 });
     let mut best: Option<lm::LmResult> = None;
+    // the best start stopped because its time ran out: not converged, and said so
+    let mut best_hit_budget = false;
     let mut first_err = None;
     let mut first_time: Option<f64> = None;
     let fit_start = std::time::Instant::now();
@@ -811,11 +819,13 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
             Some(t1) => (t + std::time::Duration::from_secs_f64((5.0 * t1).max(0.5))).min(fit_deadline),
             None => fit_deadline,
         }));
+        budget_hit.set(false);
         let res = lm::minimize(s, &objective, opts.max_iter);
         first_time.get_or_insert(t.elapsed().as_secs_f64());
         match res {
             Ok(r) => {
                 if best.as_ref().is_none_or(|b| r.ssr < b.ssr) {
+                    best_hit_budget = budget_hit.get();
                     best = Some(r);
                 }
             }
@@ -962,7 +972,11 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         bic: kf * (n as f64).ln() - 2.0 * ll,
         segments: rows,
         iterations: best.iterations,
-        stop_reason: best.reason.to_string(),
+        stop_reason: if best_hit_budget {
+            format!("{} ({TIME_BUDGET_NOTE})", best.reason)
+        } else {
+            best.reason.to_string()
+        },
         starts: starts.len(),
         loading: opts.loading,
         weighting: opts.weighting,

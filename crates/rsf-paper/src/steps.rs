@@ -44,6 +44,21 @@ fn friction_vs_slip(sol: &Solution) -> Curve {
     Curve::new(x, y)
 }
 
+/// The centred running mean over `width` µm of slip of a step record `f` (friction on the even
+/// grid of [`friction_vs_slip`], slip 0 at the step onset), as applied to a lab record that
+/// includes the steady sliding before the step: the record is extended to negative slip with
+/// the steady-state friction `mu_before` = μ_ss(V_from) the run starts from, so that windows
+/// near the onset are full rather than truncated at slip 0. Returned on the grid of `f` (slip ≥ 0).
+fn smooth_with_steady_sliding_before(f: &Curve, mu_before: f64, width: f64) -> Curve {
+    let h = f.x[1] - f.x[0];
+    // a whole window of steady sliding: more than the half window a centred mean reaches back
+    let pad = (width / h).ceil() as usize;
+    let x: Vec<f64> = (1..=pad).rev().map(|j| -(j as f64) * h).chain(f.x.iter().copied()).collect();
+    let y: Vec<f64> = std::iter::repeat_n(mu_before, pad).chain(f.y.iter().copied()).collect();
+    let smooth = running_mean(&x, &y, width);
+    Curve::new(f.x.clone(), smooth[pad..].to_vec())
+}
+
 /// One step of Fig. 1: friction normalised between its extremum and 4 µm of slip later.
 #[derive(Clone, Debug, Serialize)]
 pub struct NormalisedStep {
@@ -121,8 +136,9 @@ fn normalise(f: &Curve, decrease: bool, log10_size: f64, v_from: f64, v_to: f64)
 
 /// Fig. 1B/C: velocity-step decreases from 3 µm/s by 10^0.5 … 10^3.5 and increases of the same
 /// sizes back up to 3 µm/s, for the step-fitted Slip and Aging laws; friction smoothed by a
-/// running mean over 0.2 µm (0.4 µm for increases) of slip and normalised by its change from
-/// the extremum to 4 µm of slip past it, against slip since the extremum.
+/// centred running mean over 0.2 µm (0.4 µm for increases) of slip, with steady sliding at
+/// μ_ss(V_from) before the step (as in a lab record), and normalised by its change from the
+/// extremum to 4 µm of slip past it, against slip since the extremum.
 ///
 /// Run by `cargo run --release -p rsf-paper --example fig1_steps`.
 pub fn fig1_steps(res: &Resolution) -> Result<Fig1, PaperError> {
@@ -133,9 +149,10 @@ pub fn fig1_steps(res: &Resolution) -> Result<Fig1, PaperError> {
             for &m in &STEP_SIZES {
                 let v_low = V_HIGH * 10f64.powf(-m);
                 let (v_from, v_to) = if decrease { (V_HIGH, v_low) } else { (v_low, V_HIGH) };
+                let mu_from = p.model().steady_state_friction(v_from)?;
                 let raw = friction_vs_slip(&step_run(&p, v_from, v_to, res)?);
                 let width = if decrease { SMOOTHING_DECREASE } else { SMOOTHING_INCREASE };
-                let smooth = Curve::new(raw.x.clone(), running_mean(&raw.x, &raw.y, width));
+                let smooth = smooth_with_steady_sliding_before(&raw, mu_from, width);
                 let mut s = normalise(&smooth, decrease, m, v_from, v_to)?;
                 s.curve = s.curve.thinned(res.plot_points);
                 steps.push(s);
@@ -247,4 +264,42 @@ pub fn fig2_minima(res: &Resolution) -> Result<Fig2, PaperError> {
         });
     }
     Ok(Fig2 { v_i: V_HIGH, families })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The padding is the state the run starts from: friction at slip 0 is μ_ss(V_from).
+    #[test]
+    fn step_runs_start_at_the_steady_state_the_smoothing_pads_with() {
+        for p in [SLIP_STEPS, AGING_STEPS] {
+            let v_from = V_HIGH * 10f64.powf(-3.5);
+            let raw = friction_vs_slip(&step_run(&p, v_from, V_HIGH, &Resolution::quick()).unwrap());
+            let mu_from = p.model().steady_state_friction(v_from).unwrap();
+            assert!((raw.y[0] - mu_from).abs() < 1e-12, "{}: μ(0) − μ_ss(V_from) = {}", p.law, raw.y[0] - mu_from);
+        }
+    }
+
+    /// A record that jumps by 1 at the onset: with steady sliding before the step the centred
+    /// mean is ≈ 1/2 at the onset and ramps linearly to 1 half a window later (a mean truncated
+    /// at slip 0 would be 1 throughout); beyond half a window the padding changes nothing.
+    #[test]
+    fn smoothing_sees_the_steady_sliding_before_the_step() {
+        let width = 0.4;
+        let x = lin_grid(0.0, 2.0, 401);
+        let h = x[1];
+        let f = Curve::new(x.clone(), vec![1.0; x.len()]);
+        let s = smooth_with_steady_sliding_before(&f, 0.0, width);
+        assert_eq!(s.x, x);
+        let half = (0.5 * width / h).round() as usize;
+        for (i, (&xi, &yi)) in s.x.iter().zip(&s.y).enumerate() {
+            let expected = if i < half { (half + 1 + i) as f64 / (2 * half + 1) as f64 } else { 1.0 };
+            assert!((yi - expected).abs() < 1e-12, "slip {xi}: {yi} vs {expected}");
+        }
+        let y: Vec<f64> = x.iter().map(|v| (3.0 * v).sin()).collect();
+        let padded = smooth_with_steady_sliding_before(&Curve::new(x.clone(), y.clone()), 0.0, width);
+        let truncated = running_mean(&x, &y, width);
+        assert!((half..x.len()).all(|i| (padded.y[i] - truncated[i]).abs() < 1e-12));
+    }
 }

@@ -2,9 +2,11 @@
 //! come from this crate's output: a number of the paper, an exact or analytic result of the
 //! model, or a second integrator. All at [`Resolution::quick`].
 
+use rsf_paper::numerics::interp;
 use rsf_paper::params::{SLIP_STEPS, STIFFNESS};
 use rsf_paper::{
-    FLATTENING_T, Resolution, aging_hold_flattening, fig1_steps, fig2_minima, fig3_holds, hold_slip_rate, peak_vs_hold,
+    FLATTENING_T, NORMALISATION_SLIP, Resolution, STEP_SIZES, aging_hold_flattening, fig1_steps, fig2_minima,
+    fig3_holds, hold_slip_rate, peak_vs_hold,
 };
 
 /// Fig. 2B: Slip-law minima are linear in ln(V_i/V_f) with the paper's slope ≈ −0.009 per
@@ -52,21 +54,75 @@ fn step_minima() {
     }
 }
 
+/// The normalised change after an extremum predicted by the spring–slider linearised about
+/// steady sliding at the post-step rate V_f, Slip law, against slip `s` (µm) since the
+/// extremum. With u = ln(V/V_f) and ψ = ln(V_f θ/Dc), μ − μ_ss(V_f) = a u + b ψ; the Slip law
+/// gives dψ/dδ = −(ψ + u)/Dc exactly, and the spring dμ/dδ = k (V_f/V − 1) ≈ −k u. At the
+/// extremum dμ/dt = k (V_f − V) = 0, so u = 0 there, and in the linear system the normalised
+/// curve does not depend on the step size. Two decay rates (for Table 1's Slip fit and the
+/// machine, 1.15/Dc and 8.96/Dc) instead of the imposed-velocity 1/Dc: the curve starts flat.
+fn slip_law_linearised(a: f64, b: f64, dc: f64, k: f64, s: f64) -> f64 {
+    // d(ψ, u)/dδ = M (ψ, u), from (ψ, u) = (1, 0); e^{Ms} by Sylvester's formula
+    let (m11, m12, m21, m22) = (-1.0 / dc, -1.0 / dc, b / (a * dc), (b / dc - k) / a);
+    let (tr, det) = (m11 + m22, m11 * m22 - m12 * m21);
+    let disc = (tr * tr - 4.0 * det).sqrt(); // real: the system is overdamped here
+    let (l1, l2) = (0.5 * (tr + disc), 0.5 * (tr - disc));
+    let delta_mu = |s: f64| {
+        let (e1, e2) = ((l1 * s).exp(), (l2 * s).exp());
+        let psi = ((m11 - l2) * e1 - (m11 - l1) * e2) / (l1 - l2);
+        let u = m21 * (e1 - e2) / (l1 - l2);
+        a * u + b * (psi - 1.0)
+    };
+    delta_mu(s) / delta_mu(NORMALISATION_SLIP)
+}
+
 /// Fig. 1B/C: with the Slip law the normalised post-extremum evolution does not depend on the
 /// step size, and is close to the imposed-velocity (k → ∞) result, where ln(Vθ/Dc) decays as
 /// e^(−δ/Dc) and the normalised change reaches 1/2 at δ = −Dc ln(1 − (1 − e^(−4/Dc))/2). The
-/// finite stiffness adds the direct effect a ln(V/V_f) of the reloading, a ≈ 10 % correction.
-/// With the Aging law the evolution distance shrinks as decreases grow.
+/// finite stiffness adds the direct effect a ln(V/V_f) of the reloading, a ≈ 10 % correction,
+/// which the linearised spring–slider ([`slip_law_linearised`]) gives in closed form. With the
+/// Aging law the evolution distance shrinks as decreases grow.
+///
+/// Pointwise over 0–4 µm past the extremum (the normalised curves are 0 at the extremum and 1
+/// at 4 µm by construction; everything in between is checked):
+/// - Slip law, step-size independence: the 7 curves of each direction lie within 0.05 of each
+///   other (measured 0.014 after decreases, 0.035 after increases), where the Aging law's
+///   spread by more than 0.25 (measured ≈ 0.3);
+/// - Slip law against the linearised finite-stiffness curve: within 0.01 for the smallest step
+///   (10^0.5, nearly linear: measured 0.003, the rest is the running mean), and within 0.05
+///   for every step (the spring term k (e^(−u) − 1) is nonlinear for large steps: measured up
+///   to 0.017 after decreases and 0.038 after the largest increase);
+/// - Slip law against the imposed-velocity curve (1 − e^(−s/Dc))/(1 − e^(−4/Dc)): within the
+///   finite-stiffness correction (the largest gap between the linearised and imposed-velocity
+///   curves, ≈ 0.08) plus the same 0.05 allowance for nonlinearity.
 #[test]
 fn normalised_step_evolution() {
     let fig = fig1_steps(&Resolution::quick()).unwrap();
-    let dc = SLIP_STEPS.dc;
+    let p = SLIP_STEPS;
+    let dc = p.dc;
     let imposed = -dc * (1.0 - 0.5 * (1.0 - (-4.0 / dc).exp())).ln();
+    let grid: Vec<f64> = (0..=400).map(|i| NORMALISATION_SLIP * i as f64 / 400.0).collect();
+    let imposed_curve = |s: f64| (1.0 - (-s / dc).exp()) / (1.0 - (-NORMALISATION_SLIP / dc).exp());
+    let linear_curve = |s: f64| slip_law_linearised(p.a, p.b, dc, STIFFNESS, s);
+    let stiffness_correction = grid.iter().map(|&s| (linear_curve(s) - imposed_curve(s)).abs()).fold(0.0, f64::max);
+    assert!((0.05..0.12).contains(&stiffness_correction), "finite-stiffness correction {stiffness_correction}");
+    let linear_half = grid.iter().find(|&&s| linear_curve(s) >= 0.5).unwrap();
     for fam in &fig.families {
         let name = format!("{} {}", fam.params.label(), fam.direction);
+        let on_grid: Vec<Vec<f64>> =
+            fam.steps.iter().map(|s| grid.iter().map(|&g| interp(&s.curve.x, &s.curve.y, g)).collect()).collect();
+        let spread = (0..grid.len())
+            .map(|i| {
+                let (lo, hi) =
+                    on_grid.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c[i]), hi.max(c[i])));
+                hi - lo
+            })
+            .fold(0.0, f64::max);
         if fam.params.law == "slip" {
+            assert_eq!(fam.params, p);
             assert!(fam.half_recovery_spread < 1.1, "{name}: spread {}", fam.half_recovery_spread);
-            for s in &fam.steps {
+            assert!(spread < 0.05, "{name}: normalised curves differ by up to {spread}");
+            for (s, c) in fam.steps.iter().zip(&on_grid) {
                 let r = s.half_recovery_slip / imposed;
                 assert!(
                     (r - 1.0).abs() < 0.2,
@@ -74,17 +130,28 @@ fn normalised_step_evolution() {
                     s.log10_size,
                     s.half_recovery_slip
                 );
+                assert!(
+                    (s.half_recovery_slip - linear_half).abs() < 0.1,
+                    "{name} 10^{}: {} µm vs linearised {linear_half} µm",
+                    s.log10_size,
+                    s.half_recovery_slip
+                );
+                let off_linear = grid.iter().zip(c).map(|(&g, y)| (y - linear_curve(g)).abs()).fold(0.0, f64::max);
+                let tol = if s.log10_size == STEP_SIZES[0] { 0.01 } else { 0.05 };
+                assert!(off_linear < tol, "{name} 10^{}: {off_linear} off the linearised curve", s.log10_size);
+                let off_imposed = grid.iter().zip(c).map(|(&g, y)| (y - imposed_curve(g)).abs()).fold(0.0, f64::max);
+                assert!(
+                    off_imposed < stiffness_correction + 0.05,
+                    "{name} 10^{}: {off_imposed} off the imposed-V curve",
+                    s.log10_size
+                );
             }
         } else {
             assert!(fam.half_recovery_spread > 1.5, "{name}: spread {}", fam.half_recovery_spread);
+            assert!(spread > 0.25, "{name}: normalised curves differ by only {spread}");
             if fam.direction == "decrease" {
                 assert!(fam.steps.windows(2).all(|w| w[1].half_recovery_slip < w[0].half_recovery_slip), "{name}");
             }
-        }
-        for s in &fam.steps {
-            let at4 = rsf_paper::numerics::interp(&s.curve.x, &s.curve.y, 4.0);
-            assert!((at4 - 1.0).abs() < 1e-2, "normalisation: {at4} at 4 µm");
-            assert!(s.curve.y[0].abs() < 1e-12);
         }
     }
 }
