@@ -738,15 +738,18 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // free stiffness also the reload-slope k and softer machines (a stiff nominal k leaves no
     // gradient in k, and series compliance of gouge and assembly only ever softens a machine)
     let fit_best = |pc: &Prepared, o: &FitOptions, from: &Params| -> Option<FitResult> {
-        let mut froms = vec![from.clone()];
-        if o.fit_stiffness && !base_opts.fit_stiffness {
-            let mut ks = vec![from.k / 4.0, from.k / 16.0];
-            ks.extend(ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > 0.2));
-            froms.extend(ks.into_iter().map(|k| Params { k, ..from.clone() }));
+        let first = fit_from(pc, o, from, vmin);
+        // only when the fit from the nominal k did not soften the machine: then the nominal may
+        // sit where k has no gradient
+        let stuck = first.as_ref().is_none_or(|f| f.params.k > 0.8 * from.k);
+        if !(o.fit_stiffness && !base_opts.fit_stiffness && stuck) {
+            return first;
         }
-        froms
-            .iter()
-            .filter_map(|f| fit_from(pc, o, f, vmin))
+        let mut ks = vec![from.k / 4.0, from.k / 16.0];
+        ks.extend(ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > 0.2));
+        ks.into_iter()
+            .filter_map(|k| fit_from(pc, o, &Params { k, ..from.clone() }, vmin))
+            .chain(first)
             .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood))
     };
     let run_candidate = |cause: &'static str| -> Option<Candidate> {
@@ -771,8 +774,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 let f = fit_best(&pc, &o, &base.params)?;
                 // a mixture has both states healing (b of one sign); b of opposite signs is a
                 // difference of laws, not a share of time-dependent healing
-                let mixture_ok = f.params.b.len() < 2 || o.laws.len() < 2 || f.params.b[0] * f.params.b[1] > 0.0;
-                mixture_ok.then_some((ext, o, pc, f))
+                let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
+                let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
+                ok.then_some((ext, o, pc, f))
             })
             .min_by(|a, b| scores(&base, &a.3, ev.n_effective).0.total_cmp(&scores(&base, &b.3, ev.n_effective).0))?;
         let (dbic, daic) = scores(&base, &f, ev.n_effective);
@@ -857,8 +861,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the runner-up: the best other credible candidate (set-aside ones are named in the reason),
     // else the best other one
     let others = || candidates.iter().filter(|c| chosen.is_none_or(|ch| ch.cause != c.cause));
-    let runner_up =
-        others().find(|c| ineligible(c).is_none()).or_else(|| others().next()).map(|c| (c.cause.clone(), c.delta_bic));
+    // (with no winner, simply the best-scoring candidate)
+    let runner_up = others()
+        .find(|c| chosen.is_none() || ineligible(c).is_none())
+        .or_else(|| others().next())
+        .map(|c| (c.cause.clone(), c.delta_bic));
     let rejected_note = if rejected.is_empty() {
         String::new()
     } else {
