@@ -5,6 +5,30 @@ use plotters::prelude::*;
 use rsf_solvers::Solution;
 use std::path::Path;
 
+/// A chart with the house margins and axis labels on `area`.
+fn chart<'a, 'b: 'a>(
+    area: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<
+    ChartContext<
+        'a,
+        SVGBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+> {
+    let mut ch = ChartBuilder::on(area)
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| anyhow!("{e}"))?;
+    ch.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(|e| anyhow!("{e}"))?;
+    Ok(ch)
+}
+
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) =
         v.filter(|x| x.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
@@ -27,13 +51,7 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
     let (t0, t1) = range(sol.time.iter().copied());
     let measured = measured.filter(|m| m.len() == sol.len());
     let (m0, m1) = range(sol.mu.iter().copied().chain(measured.into_iter().flatten().copied()));
-    let mut c = ChartBuilder::on(&top)
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, m0..m1)
-        .map_err(|e| anyhow!("{e}"))?;
-    c.configure_mesh().x_desc("time (s)").y_desc("friction μ").draw().map_err(|e| anyhow!("{e}"))?;
+    let mut c = chart(&top, (t0, t1), (m0, m1), "time (s)", "friction μ")?;
     if let Some(m) = measured {
         c.draw_series(sol.time.iter().zip(m).map(|(&t, &y)| Circle::new((t, y), 1, RGBColor(150, 150, 150).filled())))
             .map_err(|e| anyhow!("{e}"))?
@@ -52,13 +70,7 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
         .map_err(|e| anyhow!("{e}"))?;
     let logv: Vec<f64> = sol.slip_rate.iter().map(|v| v.log10()).collect();
     let (v0, v1) = range(logv.iter().copied());
-    let mut c = ChartBuilder::on(&bottom)
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, v0..v1)
-        .map_err(|e| anyhow!("{e}"))?;
-    c.configure_mesh().x_desc("time (s)").y_desc("log10 slip rate (µm/s)").draw().map_err(|e| anyhow!("{e}"))?;
+    let mut c = chart(&bottom, (t0, t1), (v0, v1), "time (s)", "log10 slip rate (µm/s)")?;
     c.draw_series(LineSeries::new(sol.time.iter().copied().zip(logv), RED.stroke_width(2)))
         .map_err(|e| anyhow!("{e}"))?;
     root.present().map_err(|e| anyhow!("{e}"))?;
@@ -119,17 +131,7 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
         }
         Ok(())
     };
-    let mut ch = ChartBuilder::on(&top)
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(75)
-        .build_cartesian_2d(x0..x1, m0..m1)
-        .map_err(|e| anyhow!("{e}"))?;
-    ch.configure_mesh()
-        .x_desc("load-point displacement (µm)")
-        .y_desc("friction μ")
-        .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+    let mut ch = chart(&top, (x0, x1), (m0, m1), "load-point displacement (µm)", "friction μ")?;
     shade(&mut ch, m0, m1)?;
     ch.draw_series(
         c.load_point.iter().zip(&c.data).map(|(&x, &y)| Circle::new((x, y), 1, RGBColor(120, 120, 120).filled())),
@@ -159,17 +161,7 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
         .background_style(WHITE.mix(0.8))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
-    let mut ch = ChartBuilder::on(&bottom)
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(75)
-        .build_cartesian_2d(x0..x1, r0..r1)
-        .map_err(|e| anyhow!("{e}"))?;
-    ch.configure_mesh()
-        .x_desc("load-point displacement (µm)")
-        .y_desc("residual (data − model)")
-        .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+    let mut ch = chart(&bottom, (x0, x1), (r0, r1), "load-point displacement (µm)", "residual (data − model)")?;
     shade(&mut ch, r0, r1)?;
     ch.draw_series(c.load_point.iter().zip(&res).map(|(&x, &y)| Circle::new((x, y), 1, BLUE.filled())))
         .map_err(|e| anyhow!("{e}"))?;
@@ -196,13 +188,7 @@ fn scatter_svg(title: &str, x_desc: &str, y_desc: &str, series: &[Series], zero_
                 [p.1 - e, p.1 + e]
             })
         }));
-        let mut ch = ChartBuilder::on(&root)
-            .margin(8)
-            .x_label_area_size(35)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| anyhow!("{e}"))?;
-        ch.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(|e| anyhow!("{e}"))?;
+        let mut ch = chart(&root, (x0, x1), (y0, y1), x_desc, y_desc)?;
         if zero_line {
             ch.draw_series(LineSeries::new(vec![(x0, 0.0), (x1, 0.0)], BLACK)).map_err(|e| anyhow!("{e}"))?;
         }
@@ -249,17 +235,7 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
         let xs: Vec<f64> = idx.iter().map(|&i| b.load_point[i]).collect();
         let (x0, x1) = range(xs.iter().copied());
         let (m0, m1) = range(idx.iter().map(|&i| b.data[i]).chain(idx.iter().map(|&i| b.model[i])));
-        let mut ch = ChartBuilder::on(&top)
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(75)
-            .build_cartesian_2d(x0..x1, m0..m1)
-            .map_err(|e| anyhow!("{e}"))?;
-        ch.configure_mesh()
-            .x_desc("load-point displacement (µm)")
-            .y_desc("friction μ")
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        let mut ch = chart(&top, (x0, x1), (m0, m1), "load-point displacement (µm)", "friction μ")?;
         ch.draw_series(
             idx.iter().map(|&i| Circle::new((b.load_point[i], b.data[i]), 1, RGBColor(130, 130, 130).filled())),
         )
@@ -288,17 +264,7 @@ pub fn diagnosis_html(d: &rsf_fit::diagnose::Diagnosis, name: &str, table: &str)
             None => vec![],
         };
         let (r0, r1) = range(rb.iter().chain(&re).copied());
-        let mut ch = ChartBuilder::on(&bottom)
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(75)
-            .build_cartesian_2d(x0..x1, r0..r1)
-            .map_err(|e| anyhow!("{e}"))?;
-        ch.configure_mesh()
-            .x_desc("load-point displacement (µm)")
-            .y_desc("residual (data − model)")
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        let mut ch = chart(&bottom, (x0, x1), (r0, r1), "load-point displacement (µm)", "residual (data − model)")?;
         ch.draw_series(xs.iter().zip(&rb).map(|(&x, &y)| Circle::new((x, y), 1, BLUE.filled())))
             .map_err(|e| anyhow!("{e}"))?;
         ch.draw_series(xs.iter().zip(&re).map(|(&x, &y)| Circle::new((x, y), 1, RED.filled())))
