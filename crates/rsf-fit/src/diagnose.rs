@@ -262,10 +262,8 @@ fn slope_t(x: &[f64], y: &[f64], n_eff: f64) -> Option<(f64, f64)> {
 
 fn evidence(base: &FitResult) -> Evidence {
     let c = &base.curve;
-    let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
+    let (res, rho, n_eff) = residual_correlation(base);
     let n = res.len() as f64;
-    let rho = lag1(&res).clamp(-0.99, 0.99);
-    let n_eff = (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n);
     let (slope, t) = slope_t(&c.load_point, &res, n_eff).unwrap_or((0.0, 0.0));
     let mut seg_rms: Vec<f64> = base.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
     seg_rms.sort_by(f64::total_cmp);
@@ -364,13 +362,20 @@ fn scores(base: &FitResult, ext: &FitResult, n_eff: f64) -> (f64, f64) {
     (-2.0 * dll + dk * n_eff.ln(), -2.0 * dll + 2.0 * dk)
 }
 
-/// n_eff of a fit's residuals.
-fn n_eff_of(f: &FitResult) -> f64 {
+/// A fit's residuals, their lag-one correlation ρ and the effective number of independent
+/// samples n (1 − ρ)/(1 + ρ).
+fn residual_correlation(f: &FitResult) -> (Vec<f64>, f64, f64) {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let n = res.len() as f64;
     let rho = lag1(&res).clamp(-0.99, 0.99);
-    (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n)
+    let n_eff = (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n);
+    (res, rho, n_eff)
+}
+
+/// n_eff of a fit's residuals.
+fn n_eff_of(f: &FitResult) -> f64 {
+    residual_correlation(f).2
 }
 
 /// The training part of a held-out test: the record before `t_split` and its segments (those
