@@ -293,6 +293,15 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     let mut fo =
         FitOptions::new(vec![rsf_laws::law_by_name(&a.baseline, |_| None).map_err(anyhow::Error::msg)?], a.stiffness);
     fo.loading = loading(&a.loading)?;
+    if let Some(g) = a.wall_clock_guard {
+        if !(g > 0.0) {
+            bail!("--wall-clock-guard {g} must be positive (s)");
+        }
+        fo.budget.wall_clock_guard = Some(g);
+    }
+    if !(a.false_alarm_level > 0.0 && a.false_alarm_level < 1.0) {
+        bail!("--false-alarm-level {} must lie between 0 and 1", a.false_alarm_level);
+    }
     let rec = a.read.read(&a.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     eprintln!(
@@ -319,12 +328,19 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
         &rsf_fit::diagnose::DiagnoseOptions {
             heldout: !a.no_heldout,
             progress: Some(progress),
+            seed: a.seed,
+            threads: a.threads,
+            null_replicates: a.null_replicates,
+            false_alarm_level: a.false_alarm_level,
             ..rsf_fit::diagnose::DiagnoseOptions::new(fo)
         },
     )?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let mut out = format!("cause: {}\n{}\n", d.cause, d.reason);
+    if let Some(r) = &d.reconstruction {
+        out += &format!("protocol problem: {}\n", r.message);
+    }
     if let Some((c, s)) = &d.runner_up {
         out += &format!("runner-up: {c} (ΔBIC {s:.1})\n");
     }
@@ -361,16 +377,16 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     );
     out += &format!(
         "{:24} {:>10} {:>10} {:>10} {:>7} {:>22}  effect\n",
-        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "time s", "held-out rms"
+        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "P(false)", "held-out rms"
     );
     for c in &d.candidates {
         out += &format!(
-            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>7.1} {:>22}  {}\n",
+            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>7} {:>22}  {}\n",
             c.cause,
             c.delta_bic,
             c.delta_aic,
             c.rms_ratio,
-            c.seconds,
+            c.null.as_ref().map_or("–".into(), |n| format!("{:.0e}", n.false_alarm_probability)),
             match (c.heldout_rms_before, c.heldout_rms_after) {
                 (Some(b), Some(a)) => format!("{b:.2e} → {a:.2e}"),
                 _ => "–".into(),
@@ -388,13 +404,12 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     if let Some(j) = &a.json {
         let mut v = serde_json::to_value(&d)?;
         v["data"] = serde_json::json!(a.data.display().to_string());
-        v["wall_s"] = serde_json::json!(wall);
         std::fs::write(j, serde_json::to_string_pretty(&v)? + "\n")
             .with_context(|| format!("writing {}", j.display()))?;
     }
     if let Some(r) = &a.report {
         let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        std::fs::write(r, crate::plot::diagnosis_html(&d, &name, &out)?)
+        std::fs::write(r, rsf_fit::report::diagnosis_html(&d, &name))
             .with_context(|| format!("writing {}", r.display()))?;
     }
     Ok(())

@@ -136,9 +136,27 @@ struct DiagnoseArgs {
     /// Skip the held-out test.
     #[arg(long)]
     no_heldout: bool,
-    /// Random seed (kept for reproducibility of future stochastic steps; the diagnosis is deterministic).
+    /// Seed of the null calibration's noise replicates. The diagnosis is a deterministic function
+    /// of the record, the options and this seed: the same on any machine, at any load, with any
+    /// number of threads.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Noise replicates of the null calibration (parametric bootstrap under the baseline); 0
+    /// names a cause on ΔBIC alone.
+    #[arg(long, default_value_t = rsf_fit::diagnose::NULL_REPLICATES)]
+    null_replicates: usize,
+    /// A cause is named only when its gain would arise by chance under the baseline with
+    /// probability below this.
+    #[arg(long, default_value_t = rsf_fit::diagnose::FALSE_ALARM_LEVEL)]
+    false_alarm_level: f64,
+    /// Threads for the independent fits (0: all cores; the result does not depend on it).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Opt-in wall-clock guard per fit, s: a fit that runs longer stops with its best point and
+    /// says so (the result then depends on the machine). Off by default: fits are bounded by a
+    /// count of integrator steps instead.
+    #[arg(long)]
+    wall_clock_guard: Option<f64>,
     /// Write the diagnosis as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,

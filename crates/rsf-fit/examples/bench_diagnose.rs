@@ -51,7 +51,7 @@ fn main() {
             let t = Instant::now();
             let d = diagnose(&rec, &segs, &DiagnoseOptions::new(fit)).unwrap();
             times.push(t.elapsed().as_secs_f64());
-            cause = d.cause;
+            cause = d.cause.to_string();
         }
         times.sort_by(f64::total_cmp);
         all.push(times[1]);

@@ -135,7 +135,7 @@ fn main() {
                                         })
                                         .sum();
                                     let vis = (ss / bc.time.len() as f64).sqrt() / SIGMA;
-                                    (i, d.cause, est, secs, vis)
+                                    (i, d.cause.to_string(), est, secs, vis)
                                 }
                                 Err(e) => (i, format!("error: {e}"), None, t.elapsed().as_secs_f64(), f64::NAN),
                             }

@@ -12,6 +12,7 @@
 //! | [`lm`] | the Levenberg–Marquardt minimiser |
 //! | [`mcmc`] | posterior sampling by adaptive Metropolis, chains in parallel |
 //! | [`diagnose`] | what a fitted model gets wrong, the extension that fixes it and the gain |
+//! | [`report`] | the diagnosis as an HTML page, and the SVG charts of fits and diagnoses |
 //! | [`synthetic`] | records made by the model with known parameters and noise, for tests |
 //!
 //! A synthetic velocity-step record (Slip law, a = 0.010, b = 0.013, Dc = 8 µm, steps
@@ -48,6 +49,7 @@ pub mod diagnose;
 pub mod fit;
 pub mod lm;
 pub mod mcmc;
+pub mod report;
 pub mod segment;
 pub mod sens;
 pub mod synthetic;

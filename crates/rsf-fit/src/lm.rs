@@ -6,6 +6,47 @@
 //! gain-ratio updates of μ with Marquardt's diagonal scaling.
 
 use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+/// Why Levenberg–Marquardt stopped (serialised as the sentence it displays).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum StopReason {
+    /// The gradient is zero to round-off.
+    #[serde(rename = "gradient vanished")]
+    GradientVanished,
+    /// An accepted step reduced the sum of squares by less than 1e-10 of it.
+    #[serde(rename = "relative reduction below 1e-10")]
+    SmallReduction,
+    /// A rejected step was already below 1e-12 of |θ|.
+    #[serde(rename = "step below 1e-12")]
+    SmallStep,
+    /// The damping grew past 1e20: at a minimum, or against a wall where the model cannot be
+    /// evaluated (a physical bound, a budget).
+    #[serde(rename = "damping diverged (at a minimum or a wall)")]
+    DampingDiverged,
+    /// `max_iter` iterations.
+    #[serde(rename = "iteration limit")]
+    IterationLimit,
+}
+
+impl StopReason {
+    /// The sentence.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::GradientVanished => "gradient vanished",
+            Self::SmallReduction => "relative reduction below 1e-10",
+            Self::SmallStep => "step below 1e-12",
+            Self::DampingDiverged => "damping diverged (at a minimum or a wall)",
+            Self::IterationLimit => "iteration limit",
+        }
+    }
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// Residuals r (length n) and Jacobian ∂r/∂θ (n × m, row-major in a flat vector) at θ.
 pub struct Eval {
@@ -27,7 +68,7 @@ pub struct LmResult {
     /// Residual evaluations.
     pub evaluations: usize,
     /// Why it stopped.
-    pub reason: &'static str,
+    pub reason: StopReason,
 }
 
 fn normal_equations(e: &Eval, m: usize) -> (DMatrix<f64>, DVector<f64>, f64) {
@@ -66,12 +107,12 @@ pub fn minimize<E>(
     let (mut a, mut g, mut ssr) = normal_equations(&e, m);
     let mut mu = 1e-3 * (0..m).map(|k| a[(k, k)]).fold(0.0, f64::max).max(1e-300);
     let mut nu = 2.0;
-    let mut reason = "iteration limit";
+    let mut reason = StopReason::IterationLimit;
     let mut it = 0;
     while it < max_iter {
         it += 1;
         if g.amax() <= 1e-14 * ssr.max(1e-300).sqrt() {
-            reason = "gradient vanished";
+            reason = StopReason::GradientVanished;
             break;
         }
         // (A + μ diag(A)) δ = −g, with a floor on the diagonal for unidentified directions
@@ -109,7 +150,7 @@ pub fn minimize<E>(
                     mu *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
                     nu = 2.0;
                     if rel < 1e-10 {
-                        reason = "relative reduction below 1e-10";
+                        reason = StopReason::SmallReduction;
                         break;
                     }
                     true
@@ -121,13 +162,13 @@ pub fn minimize<E>(
         };
         if !accepted {
             if step_small {
-                reason = "step below 1e-12";
+                reason = StopReason::SmallStep;
                 break;
             }
             mu *= nu;
             nu *= 2.0;
             if mu > 1e20 {
-                reason = "damping diverged (at a minimum or a wall)";
+                reason = StopReason::DampingDiverged;
                 break;
             }
         }

@@ -28,7 +28,7 @@ pub struct SensSolution {
 }
 
 /// Largest number of state variables for which sensitivities are compiled.
-pub const MAX_SENS_STATES: usize = 3;
+pub const MAX_SENS_STATES: usize = 8;
 
 struct SensOde<'a, const D: usize, const P: usize, const DA: usize> {
     sys: SpringSlider<'a>,
@@ -78,12 +78,23 @@ impl<const D: usize, const P: usize, const DA: usize> OdeSystem<DA> for SensOde<
 }
 
 /// Solves `problem` with Dormand–Prince at `rtol` and returns friction and ∂mu/∂p at the
-/// output times. Classic friction form, finite stiffness, 1–3 state variables.
-pub fn solve_with_sensitivities(problem: &Problem, rtol: f64, atol: f64) -> Result<SensSolution, SolveError> {
+/// output times. Classic friction form, finite stiffness, 1–8 state variables; `max_steps` is
+/// the integrator's step budget per piece of loading.
+pub fn solve_with_sensitivities(
+    problem: &Problem,
+    rtol: f64,
+    atol: f64,
+    max_steps: u64,
+) -> Result<SensSolution, SolveError> {
     match problem.model.n_states() {
-        1 => run::<3, 7, 24>(problem, rtol, atol),
-        2 => run::<4, 10, 44>(problem, rtol, atol),
-        3 => run::<5, 13, 70>(problem, rtol, atol),
+        1 => run::<3, 7, 24>(problem, rtol, atol, max_steps),
+        2 => run::<4, 10, 44>(problem, rtol, atol, max_steps),
+        3 => run::<5, 13, 70>(problem, rtol, atol, max_steps),
+        4 => run::<6, 16, 102>(problem, rtol, atol, max_steps),
+        5 => run::<7, 19, 140>(problem, rtol, atol, max_steps),
+        6 => run::<8, 22, 184>(problem, rtol, atol, max_steps),
+        7 => run::<9, 25, 234>(problem, rtol, atol, max_steps),
+        8 => run::<10, 28, 290>(problem, rtol, atol, max_steps),
         n => Err(SolveError::Input(format!(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
         ))),
@@ -94,6 +105,7 @@ fn run<const D: usize, const P: usize, const DA: usize>(
     problem: &Problem,
     rtol: f64,
     atol: f64,
+    max_steps: u64,
 ) -> Result<SensSolution, SolveError> {
     debug_assert_eq!(DA, D * (1 + P));
     let model = &problem.model;
@@ -119,7 +131,7 @@ fn run<const D: usize, const P: usize, const DA: usize>(
         stats: StepStats::default(),
     };
     let (mut gy, mut gp) = ([0.0; D], [0.0; P]);
-    let alg = Dopri5 { max_steps: crate::fit::FIT_MAX_STEPS, ..Dopri5::new(rtol, atol) };
+    let alg = Dopri5 { max_steps, ..Dopri5::new(rtol, atol) };
     let ln_v_max = problem.max_slip_rate.ln();
     let mut stats = StepStats::default();
     drive(
@@ -186,7 +198,7 @@ mod tests {
                 Segment::for_duration(1.0, 20.0),
             ];
             let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
-            let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14).unwrap();
+            let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
             let p = params(&base);
             let np = s.n_params;
             for j in 0..np {
@@ -222,7 +234,7 @@ mod tests {
             p.output = rsf_solvers::OutputTimes::Times((0..3950).map(|i| i as f64 * 1e-3).collect());
             p
         };
-        let s = solve_with_sensitivities(&mk(base.clone()), 1e-7, 1e-11).unwrap();
+        let s = solve_with_sensitivities(&mk(base.clone()), 1e-7, 1e-11, crate::fit::FIT_MAX_STEPS).unwrap();
         let np = s.n_params;
         for j in [1usize, 2, 4, 5] {
             let p = params(&base);

@@ -74,7 +74,7 @@ fn nothing_hidden_gives_none_with_white_or_correlated_noise() {
     for (tau, seed) in [(0.0, 1), (3.0, 2)] {
         // AR(1) noise with a 3 s correlation time must not pass for an effect either
         let d = run(&m, 0.005, tau, seed);
-        assert_eq!(d.cause, "none");
+        assert_eq!(d.cause.as_str(), "none");
         assert!(d.secondary.is_none());
         // one Dc serves every step and hold: the per-event refits scatter as their errors say
         assert_eq!(d.per_segment.len(), 7);
@@ -86,7 +86,7 @@ fn nothing_hidden_gives_none_with_white_or_correlated_noise() {
 #[test]
 fn finds_an_aging_law_behind_a_slip_baseline() {
     let d = run(&base().with_state(StateVariable::new(Aging, 0.013, 8.0)), 0.005, 0.0, 3);
-    assert_eq!(d.cause, "evolution_law");
+    assert_eq!(d.cause.as_str(), "evolution_law");
     assert_eq!(d.effect["law"], "aging");
     // the signature in the per-event refits: a Slip law refitted step by step needs a longer Dc
     // for up-steps than for down-steps (Aging heals by time, fast after an up-step in slip
@@ -102,7 +102,7 @@ fn finds_an_aging_law_behind_a_slip_baseline() {
 fn finds_a_small_share_of_time_dependent_healing() {
     let m = base().with_state(StateVariable::new(Slip, 0.0117, 8.0)).with_state(StateVariable::new(Aging, 0.0013, 8.0));
     let d = run(&m, 0.005, 3.0, 9);
-    assert_eq!(d.cause, "evolution_law");
+    assert_eq!(d.cause.as_str(), "evolution_law");
     assert_eq!(d.effect["law"], "slip+aging");
     let share = effect(&d, "b_other_fraction");
     assert!((share / 0.1 - 1.0).abs() < 0.2, "Aging share {share}");
@@ -112,14 +112,14 @@ fn finds_a_small_share_of_time_dependent_healing() {
 fn finds_a_second_state_variable() {
     let m = base().with_state(StateVariable::new(Slip, 0.010, 5.0)).with_state(StateVariable::new(Slip, 0.004, 60.0));
     let d = run(&m, 0.005, 0.0, 4);
-    assert_eq!(d.cause, "second_state_variable");
+    assert_eq!(d.cause.as_str(), "second_state_variable");
     assert!((effect(&d, "dc2") / 60.0 - 1.0).abs() < 0.2 && (effect(&d, "b2") / 0.004 - 1.0).abs() < 0.2);
 }
 
 #[test]
 fn finds_a_cutoff_velocity() {
     let d = run(&base().with_state(StateVariable::new(KatoTullis { vc: 0.02 }, 0.013, 8.0)), 0.005, 0.0, 5);
-    assert_eq!(d.cause, "cutoff_velocity");
+    assert_eq!(d.cause.as_str(), "cutoff_velocity");
     assert!((effect(&d, "vc") / 0.02 - 1.0).abs() < 0.2);
 }
 
@@ -127,14 +127,14 @@ fn finds_a_cutoff_velocity() {
 fn finds_a_slip_trend_in_correlated_noise() {
     let m = base().with_state(StateVariable::new(Slip, 0.013, 8.0)).with_slip_trend(3e-6);
     let d = run(&m, 0.005, 3.0, 6);
-    assert_eq!(d.cause, "slip_trend");
+    assert_eq!(d.cause.as_str(), "slip_trend");
     assert!((effect(&d, "g") / 3e-6 - 1.0).abs() < 0.2);
 }
 
 #[test]
 fn finds_a_wrong_nominal_stiffness() {
     let d = run(&Model::new(0.6, 1.0, 0.010, 0.008).with_state(StateVariable::new(Slip, 0.013, 8.0)), 0.005, 0.0, 7);
-    assert_eq!(d.cause, "stiffness");
+    assert_eq!(d.cause.as_str(), "stiffness");
     assert!((effect(&d, "k") / 0.008 - 1.0).abs() < 0.2);
 }
 

@@ -43,7 +43,8 @@ pub mod csv;
 mod holds;
 pub mod numerics;
 pub mod params;
-pub mod plot;
+/// The figures' chart module: the workspace's one, [`rsf_plot`].
+pub use rsf_plot as plot;
 mod shs;
 mod sim;
 mod steps;
@@ -74,6 +75,6 @@ pub enum PaperError {
     #[error("{0}")]
     Protocol(String),
     /// Drawing failed.
-    #[error("plot: {0}")]
-    Plot(String),
+    #[error(transparent)]
+    Plot(#[from] rsf_plot::PlotError),
 }

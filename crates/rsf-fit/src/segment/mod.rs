@@ -11,9 +11,20 @@
 //! sample that minimises the two-line misfit. Working on samples with time as the abscissa
 //! makes the method indifferent to changes of sampling rate.
 
+mod consolidate;
+mod moments;
+mod refine;
+
+use consolidate::consolidate;
+use moments::Moments;
 use serde::Serialize;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+
+/// A segment whose load point travels less than this over its duration (µm) is a hold: far below
+/// any lab encoder's resolution (≈ 10 nm) and any commanded creep (the slowest lab rates, ~1e-4
+/// µm/s, move 0.1 µm in 1000 s), yet far above the round-off of a clean load-point record.
+pub const HOLD_TRAVEL_UM: f64 = 5e-3;
 
 /// What a segment is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -80,54 +91,6 @@ pub struct SegmentOptions {
 impl Default for SegmentOptions {
     fn default() -> Self {
         Self { min_ratio: 1.3, penalty: 0.0, min_samples: 5, min_duration: 0.3 }
-    }
-}
-
-/// Centred moments of a run of samples (t, x).
-#[derive(Clone, Copy, Debug, Default)]
-struct Moments {
-    n: f64,
-    mt: f64,
-    mx: f64,
-    stt: f64,
-    sxx: f64,
-    stx: f64,
-}
-
-impl Moments {
-    fn of(t: &[f64], x: &[f64]) -> Self {
-        let mut m = Moments::default();
-        for (&ti, &xi) in t.iter().zip(x) {
-            m = m.merge(&Moments { n: 1.0, mt: ti, mx: xi, ..Default::default() });
-        }
-        m
-    }
-    fn merge(&self, o: &Moments) -> Moments {
-        if self.n == 0.0 {
-            return *o;
-        }
-        let n = self.n + o.n;
-        let (dt, dx) = (o.mt - self.mt, o.mx - self.mx);
-        let f = self.n * o.n / n;
-        Moments {
-            n,
-            mt: self.mt + dt * o.n / n,
-            mx: self.mx + dx * o.n / n,
-            stt: self.stt + o.stt + dt * dt * f,
-            sxx: self.sxx + o.sxx + dx * dx * f,
-            stx: self.stx + o.stx + dt * dx * f,
-        }
-    }
-    /// Residual sum of squares of the least-squares line.
-    fn sse(&self) -> f64 {
-        if self.stt > 0.0 { (self.sxx - self.stx * self.stx / self.stt).max(0.0) } else { self.sxx }
-    }
-    fn slope(&self) -> f64 {
-        if self.stt > 0.0 { self.stx / self.stt } else { 0.0 }
-    }
-    /// Standard error of the slope given noise variance `s2`.
-    fn slope_se(&self, s2: f64) -> f64 {
-        if self.stt > 0.0 { (s2 / self.stt).sqrt() } else { f64::INFINITY }
     }
 }
 
@@ -230,7 +193,13 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
         i = if alive[i] { next[i] } else { i + 1 };
     }
     // fuse neighbours of similar velocity (or both at rest) and absorb tiny segments, until stable
-    let is_hold = |mo: &Moments| mo.slope().abs() < 3.0 * mo.slope_se(s2).max(1e-12);
+    // at rest: a slope within three standard errors of zero, or a travel over the segment below
+    // HOLD_TRAVEL_UM or three noise σ (on a clean load point the standard error is round-off; on a
+    // noisy one a travel within the noise is no measurable motion)
+    let is_hold = |mo: &Moments| {
+        let travel = mo.slope().abs() * (12.0 * mo.stt / mo.n.max(1.0)).sqrt();
+        mo.slope().abs() < 3.0 * mo.slope_se(s2).max(1e-12) || travel < HOLD_TRAVEL_UM.max(3.0 * s2.sqrt())
+    };
     let similar = |a: &Moments, b: &Moments| {
         let (ha, hb) = (is_hold(a), is_hold(b));
         if ha || hb {
@@ -240,34 +209,22 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
         va.signum() == vb.signum() && (va / vb).abs().max((vb / va).abs()) < opts.min_ratio
     };
     consolidate(&mut segs, time, n, opts, &similar);
-    // refine each boundary to the sample minimising the two-line misfit nearby
+    // each boundary to the exact break between its neighbours' lines, then once more after the
+    // refined boundaries have been consolidated (a merge changes a neighbour's line)
     let mut bounds: Vec<usize> = segs.iter().map(|s| s.0).collect();
     bounds.push(n);
-    for b in 1..bounds.len() - 1 {
-        let lo = bounds[b - 1] + opts.min_samples;
-        let hi = bounds[b + 1].saturating_sub(opts.min_samples);
-        let w = 3 * run;
-        let (a0, a1) = (bounds[b].saturating_sub(w).max(lo), (bounds[b] + w).min(hi));
-        if a1 <= a0 {
-            continue;
-        }
-        let ctx = 4 * run;
-        let (l0, r1) = (bounds[b - 1].max(a0.saturating_sub(ctx)), bounds[b + 1].min(a1 + ctx));
-        let mut best = (f64::INFINITY, bounds[b]);
-        for s in a0..=a1 {
-            let c = Moments::of(&time[l0..s], &lp[l0..s]).sse() + Moments::of(&time[s..r1], &lp[s..r1]).sse();
-            if c < best.0 {
-                best = (c, s);
-            }
-        }
-        bounds[b] = best.1;
-    }
-    // the refined boundaries change the fits: consolidate once more on exact per-segment moments
+    let margin = 3 * run + opts.min_samples;
+    // round-off of a clean load-point record
+    let floor2 = (1e-10 * (1.0 + lp.iter().fold(0.0f64, |m, x| m.max(x.abs())))).powi(2);
+    refine::absorb_ramps(time, lp, &mut bounds, margin, s2, floor2, &is_hold);
+    refine::exact_breaks(time, lp, &mut bounds, margin, &is_hold);
     let mut segs: Vec<(usize, Moments)> =
         bounds.windows(2).map(|w| (w[0], Moments::of(&time[w[0]..w[1]], &lp[w[0]..w[1]]))).collect();
     consolidate(&mut segs, time, n, opts, &similar);
     let mut bounds: Vec<usize> = segs.iter().map(|s| s.0).collect();
     bounds.push(n);
+    refine::absorb_ramps(time, lp, &mut bounds, margin, s2, floor2, &is_hold);
+    refine::exact_breaks(time, lp, &mut bounds, margin, &is_hold);
     // final fits and kinds
     let mut out: Vec<Segment> = Vec::new();
     let mut last_moving: Option<f64> = None;
@@ -369,102 +326,6 @@ pub fn from_specs(time: &[f64], lp: &[f64], specs: &[SegmentSpec]) -> Result<Vec
         out.push(Segment { i0, i1: i1 - 1, t0: s.t0, t1: s.t1, lp0: lp[i0] - s.v * (time[i0] - s.t0), v: s.v, kind });
     }
     Ok(out)
-}
-
-/// Fuses neighbours of similar velocity, removes blips and absorbs tiny segments until stable.
-fn consolidate(
-    segs: &mut Vec<(usize, Moments)>,
-    time: &[f64],
-    n: usize,
-    opts: &SegmentOptions,
-    similar: &dyn Fn(&Moments, &Moments) -> bool,
-) {
-    let dur = |k: usize, segs: &[(usize, Moments)]| {
-        let e = segs.get(k + 1).map(|s| s.0).unwrap_or(n) - 1;
-        time[e] - time[segs[k].0]
-    };
-    loop {
-        let mut changed = false;
-        // neighbours of similar velocity
-        let mut k = 0;
-        while k + 1 < segs.len() {
-            if similar(&segs[k].1, &segs[k + 1].1) {
-                segs[k].1 = segs[k].1.merge(&segs[k + 1].1);
-                segs.remove(k + 1);
-                changed = true;
-            } else {
-                k += 1;
-            }
-        }
-        // blips: a short segment between two similar ones (load-point stalls, servo bursts)
-        let mut k = 1;
-        while k + 1 < segs.len() {
-            let short = dur(k, segs) < 0.1 * dur(k - 1, segs).min(dur(k + 1, segs));
-            // …and its displacement anomaly is small next to its neighbours' travel (a stall
-            // or a burst of noise is; a reslide between two holds is not)
-            let v_nb = 0.5 * (segs[k - 1].1.slope() + segs[k + 1].1.slope());
-            let anomaly = ((segs[k].1.slope() - v_nb) * dur(k, segs)).abs();
-            let travel = v_nb.abs() * (dur(k - 1, segs) + dur(k + 1, segs));
-            if short && similar(&segs[k - 1].1, &segs[k + 1].1) && anomaly < 0.1 * travel {
-                let merged = segs[k - 1].1.merge(&segs[k].1).merge(&segs[k + 1].1);
-                segs[k - 1].1 = merged;
-                segs.drain(k..k + 2);
-                changed = true;
-            } else {
-                k += 1;
-            }
-        }
-        // tiny segments (few samples, shorter than min_duration, or a transition much shorter
-        // than both neighbours) join the neighbour of closer velocity, shortest first
-        loop {
-            if segs.len() < 2 {
-                break;
-            }
-            let tiny = |k: usize| {
-                let few = (segs[k].1.n as usize) < opts.min_samples || dur(k, segs) < opts.min_duration;
-                let inner = k > 0 && k + 1 < segs.len();
-                let shortest_nb = if inner { dur(k - 1, segs).min(dur(k + 1, segs)) } else { 0.0 };
-                let (vp, v, vn) = if inner {
-                    (segs[k - 1].1.slope(), segs[k].1.slope(), segs[k + 1].1.slope())
-                } else {
-                    (0.0, 0.0, 0.0)
-                };
-                // a short transition (servo ramp) with a velocity between its neighbours'
-                let ramp = inner && (v - vp) * (vn - v) > 0.0 && dur(k, segs) < 0.02 * shortest_nb;
-                let transient = inner
-                    && ((segs[k].1.n as usize) < 4 * opts.min_samples && dur(k, segs) < 0.2 * shortest_nb || ramp);
-                few || transient
-            };
-            let Some(k) = (0..segs.len()).filter(|&k| tiny(k)).min_by(|&a, &b| dur(a, segs).total_cmp(&dur(b, segs)))
-            else {
-                break;
-            };
-            let v = segs[k].1.slope();
-            let dist = |j: usize| {
-                let w = segs[j].1.slope();
-                if v > 0.0 && w > 0.0 { (v / w).ln().abs() } else { (v - w).abs() / v.abs().max(w.abs()).max(1e-12) }
-            };
-            let left = if k == 0 {
-                false
-            } else if k + 1 == segs.len() {
-                true
-            } else {
-                dist(k - 1) <= dist(k + 1)
-            };
-            if left {
-                segs[k - 1].1 = segs[k - 1].1.merge(&segs[k].1);
-                segs.remove(k);
-            } else {
-                segs[k + 1].1 = segs[k].1.merge(&segs[k + 1].1);
-                segs[k + 1].0 = segs[k].0;
-                segs.remove(k);
-            }
-            changed = true;
-        }
-        if !changed {
-            break;
-        }
-    }
 }
 
 #[cfg(test)]

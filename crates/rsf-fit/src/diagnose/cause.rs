@@ -1,0 +1,156 @@
+//! The closed vocabulary of causes, and what each does to a model: the extension it applies,
+//! its words, and the effect parameters it reports.
+
+use crate::fit::{FitOptions, FitResult};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// What a fitted model gets wrong (serialised as its snake_case name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Cause {
+    /// Nothing: no extension earns its parameters.
+    None,
+    /// The evolution law: the other law, or a share of time-dependent (Aging) healing.
+    EvolutionLaw,
+    /// A second state variable.
+    SecondStateVariable,
+    /// The Kato–Tullis cut-off velocity Vc.
+    CutoffVelocity,
+    /// A slip trend g·δ in friction.
+    SlipTrend,
+    /// The machine stiffness differs from the nominal one.
+    Stiffness,
+}
+
+impl Cause {
+    /// The candidate extensions, in the order they are tried.
+    pub const CANDIDATES: [Cause; 5] =
+        [Cause::EvolutionLaw, Cause::SecondStateVariable, Cause::CutoffVelocity, Cause::SlipTrend, Cause::Stiffness];
+
+    /// The snake_case name (as in JSON).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::EvolutionLaw => "evolution_law",
+            Self::SecondStateVariable => "second_state_variable",
+            Self::CutoffVelocity => "cutoff_velocity",
+            Self::SlipTrend => "slip_trend",
+            Self::Stiffness => "stiffness",
+        }
+    }
+
+    /// The cause of a name; `None` for an unknown name.
+    pub fn parse(name: &str) -> Option<Self> {
+        [Self::None].into_iter().chain(Self::CANDIDATES).find(|c| c.as_str() == name)
+    }
+
+    /// The extension in words, for a baseline of `base_law`.
+    pub fn describe(self, base_law: &str) -> String {
+        match self {
+            Self::None => "the baseline".into(),
+            Self::EvolutionLaw => format!("{} law instead of {base_law}", other_law(base_law)),
+            Self::SecondStateVariable => format!("second state variable ({base_law})"),
+            Self::CutoffVelocity => "Kato–Tullis law with cut-off velocity Vc".into(),
+            Self::SlipTrend => "slip trend g·slip".into(),
+            Self::Stiffness => "stiffness fitted".into(),
+        }
+    }
+
+    /// Applies this extension to fit options (composable: a combination applies two). `None`
+    /// when it does not apply (e.g. the cut-off on top of a law change).
+    pub fn extend(self, o: &FitOptions, base_law: &str) -> Option<FitOptions> {
+        let mut o = o.clone();
+        match self {
+            Self::None => {}
+            Self::EvolutionLaw => {
+                if o.laws.iter().any(|l| l.name() != base_law) {
+                    return None;
+                }
+                o.laws = o.laws.iter().map(|_| builtin(other_law(base_law))).collect();
+            }
+            Self::SecondStateVariable => {
+                if o.laws.len() != 1 {
+                    return None;
+                }
+                let l = o.laws[0].clone();
+                o.laws.push(l);
+            }
+            Self::CutoffVelocity => {
+                if o.laws[0].name() != base_law || o.laws.len() != 1 {
+                    return None;
+                }
+                o.laws[0] = builtin("kato-tullis");
+            }
+            Self::SlipTrend => {
+                if o.fit_slip_trend {
+                    return None;
+                }
+                o.fit_slip_trend = true;
+            }
+            Self::Stiffness => {
+                if o.fit_stiffness {
+                    return None;
+                }
+                o.fit_stiffness = true;
+            }
+        }
+        Some(o)
+    }
+
+    /// This cause's effect parameters in a fit (added to `effect`).
+    fn add_effect(self, f: &FitResult, effect: &mut BTreeMap<String, serde_json::Value>) {
+        let pr = &f.params;
+        match self {
+            Self::None => {}
+            Self::EvolutionLaw => {
+                effect.insert("law".into(), serde_json::json!(pr.laws.join("+")));
+                if pr.b.len() == 2 {
+                    // share of the evolution effect carried by the other law
+                    effect.insert("b_other_fraction".into(), serde_json::json!(pr.b[1] / (pr.b[0] + pr.b[1])));
+                }
+            }
+            Self::SecondStateVariable => {
+                // the states are exchangeable in the fit: report the slower one as the second
+                let i = (0..pr.dc.len()).max_by(|&x, &y| pr.dc[x].total_cmp(&pr.dc[y])).unwrap_or(0);
+                effect.insert("b2".into(), serde_json::json!(pr.b.get(i)));
+                effect.insert("dc2".into(), serde_json::json!(pr.dc.get(i)));
+            }
+            Self::CutoffVelocity => {
+                effect.insert("vc".into(), serde_json::json!(pr.law_params.get("vc1")));
+            }
+            Self::SlipTrend => {
+                effect.insert("g".into(), serde_json::json!(pr.g));
+            }
+            Self::Stiffness => {
+                effect.insert("k".into(), serde_json::json!(pr.k));
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Cause {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The effect parameters of `causes` applied together in the fit `f`.
+pub fn effect_of(causes: &[Cause], f: &FitResult) -> BTreeMap<String, serde_json::Value> {
+    let mut effect = BTreeMap::new();
+    for c in causes {
+        c.add_effect(f, &mut effect);
+    }
+    effect
+}
+
+/// The other of the two classic laws.
+pub(super) fn other_law(base_law: &str) -> &'static str {
+    if base_law == "aging" { "slip" } else { "aging" }
+}
+
+/// A built-in law by name (Vc starts at 0.01 µm/s; the fit sets it).
+pub(super) fn builtin(n: &str) -> Arc<dyn rsf_core::DynStateLaw> {
+    rsf_laws::law_by_name(n, |q| Some(if q == "vc" { 0.01 } else { 1.0 })).expect("built-in law")
+}

@@ -1,0 +1,91 @@
+//! Per-event refits: each step and each hold-and-reslide refitted alone with the baseline law,
+//! and the consistency of Dc between them.
+
+use super::EventFit;
+use super::evidence::{n_eff_of, slope_t};
+use super::starts::initial_for;
+use crate::fit::{FitOptions, FitResult, Prepared, fit, prepare};
+
+/// Per-event refits: each velocity step and each hold-and-reslide, fitted alone (from the second
+/// half of the sliding before it to the end of the segment after it) with the baseline law.
+pub(super) fn event_windows(p: &Prepared) -> Vec<(usize, usize)> {
+    let s = &p.segments;
+    let mut out = vec![];
+    for j in 1..s.len() {
+        if s[j].v <= 0.0 {
+            continue;
+        }
+        // the last sliding segment before j
+        let Some(prev) = (0..j).rev().find(|&i| s[i].v > 0.0) else { continue };
+        out.push((prev, j));
+    }
+    out
+}
+
+pub(super) fn fit_event(p: &Prepared, opts: &FitOptions, base: &FitResult, prev: usize, j: usize) -> Option<EventFit> {
+    let s = &p.segments;
+    // the forward model runs from the start of the record (so the state entering the window is
+    // the model's own, not an assumed steady state), the misfit counts only from the second half
+    // of the sliding before the event to the end of the segment after it
+    let mid = (s[prev].i0 + s[prev].i1) / 2;
+    let mut o = FitOptions {
+        laws: opts.laws.clone(),
+        mu0_per_segment: false,
+        fit_slip_trend: false,
+        fit_stiffness: false,
+        weighting: crate::fit::Weighting::Uniform,
+        starts: 2,
+        // a tenth of the baseline's work: an event the window cannot pin down is dropped
+        budget: opts.budget.scaled(0.1),
+        ..opts.clone()
+    };
+    let mut pw = prepare(&p.record, &s[..=j], &o).ok()?;
+    o.initial = initial_for(&pw, &o, &base.params)?;
+    o.initial.retain(|(n, _)| n != "mu0");
+    let keep: Vec<usize> = (0..pw.used.len()).filter(|&r| pw.used[r] >= mid).collect();
+    if keep.len() < 10 {
+        return None;
+    }
+    pw.used = keep.iter().map(|&r| pw.used[r]).collect();
+    pw.seg_of = keep.iter().map(|&r| pw.seg_of[r]).collect();
+    pw.weights = vec![1.0; keep.len()];
+    let f = fit(&pw, &o).ok()?;
+    // a refit stopped by its budget has not converged: its Dc would only add noise
+    if f.budget_hit.is_some() {
+        return None;
+    }
+    let ci = f.ci95.get("dc1")?;
+    // the interval assumes independent noise: widen it by sqrt(n/n_eff) of the window residuals
+    let inflate = (f.n as f64 / n_eff_of(&f)).sqrt();
+    let hold = (j > prev + 1).then(|| (prev + 1..j).map(|i| s[i].t1 - s[i].t0).sum::<f64>());
+    Some(EventFit {
+        event: if hold.is_some() { "hold" } else { "step" }.into(),
+        t: s[j].t0,
+        v_before: s[prev].v,
+        v_after: s[j].v,
+        hold_s: hold,
+        a: f.params.a,
+        b: f.params.b[0],
+        dc: f.params.dc[0],
+        ln_dc_stderr: inflate * ((ci[1] / ci[0]).ln() / (2.0 * 1.96)).abs(),
+        rms: f.rms,
+    })
+}
+
+/// Consistency of the per-event Dc: reduced χ² of ln Dc about its weighted mean, and the slopes
+/// of ln Dc against ln(step ratio) and ln(hold duration).
+pub(super) fn dc_consistency(ev: &[EventFit]) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let ok: Vec<&EventFit> = ev.iter().filter(|e| e.ln_dc_stderr.is_finite() && e.ln_dc_stderr > 0.0).collect();
+    let chi2 = (ok.len() >= 2).then(|| {
+        let w: Vec<f64> = ok.iter().map(|e| 1.0 / e.ln_dc_stderr.powi(2)).collect();
+        let m = ok.iter().zip(&w).map(|(e, w)| w * e.dc.ln()).sum::<f64>() / w.iter().sum::<f64>();
+        ok.iter().zip(&w).map(|(e, w)| w * (e.dc.ln() - m).powi(2)).sum::<f64>() / (ok.len() - 1) as f64
+    });
+    let line = |pts: Vec<(f64, f64)>| -> Option<f64> {
+        let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
+        slope_t(&x, &y, x.len() as f64).map(|s| s.0)
+    };
+    let steps = ok.iter().filter(|e| e.hold_s.is_none()).map(|e| ((e.v_after / e.v_before).ln(), e.dc.ln())).collect();
+    let holds = ok.iter().filter_map(|e| e.hold_s.map(|h| (h.ln(), e.dc.ln()))).collect();
+    (chi2, line(steps), line(holds))
+}

@@ -1,0 +1,93 @@
+//! Reconstruction checked before physics is blamed.
+//!
+//! A protocol reconstructed from the load-point record can be wrong at a break (a hold ended a
+//! few samples late, a step at the wrong time); the model then misses one segment by far more
+//! than any other, and every physical extension is tempted to explain that misfit. So after the
+//! baseline fit under protocol loading, a segment whose residual rms stands far above the
+//! others is put to a test that physics cannot pass: the baseline is refitted driven by the
+//! measured load point itself. If the segment's misfit falls back among the others there, the
+//! protocol was at fault: the problem is reported (segment, time, misfit before and after) and
+//! the diagnosis goes on with record loading, so no physical cause is named from it. A physical
+//! effect (a cut-off, healing of the wrong law) misfits under both loadings alike and is left to
+//! the candidates.
+
+use crate::fit::{FitResult, LoadingMode};
+use crate::segment::SegmentKind;
+use serde::Serialize;
+
+/// A segment whose rms exceeds this multiple of the median segment rms is suspect.
+pub const SUSPECT_SEGMENT_RATIO: f64 = 3.0;
+
+/// Under record loading the suspect segment must come down to this multiple of the median
+/// segment rms (from above `SUSPECT_SEGMENT_RATIO`) for the protocol to be blamed.
+pub const RESOLVED_SEGMENT_RATIO: f64 = 2.0;
+
+/// A protocol-reconstruction problem found and worked around.
+#[derive(Clone, Debug, Serialize)]
+pub struct Reconstruction {
+    /// The segment (1-based, as in the fit's segment table) whose misfit stood out.
+    pub segment: usize,
+    /// Its kind.
+    pub kind: SegmentKind,
+    /// Its start time, s (the reconstructed break).
+    pub t: f64,
+    /// Its rms over the median segment rms under protocol loading.
+    pub rms_ratio_protocol: f64,
+    /// The same under record loading.
+    pub rms_ratio_record: f64,
+    /// What the diagnosis did about it.
+    pub remedy: LoadingMode,
+    /// In words.
+    pub message: String,
+}
+
+/// The worst segment of a fit: (index into `segments`, rms / median rms).
+pub(super) fn worst_segment(f: &FitResult) -> Option<(usize, f64)> {
+    let mut rms: Vec<f64> = f.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
+    if rms.len() < 3 {
+        return None;
+    }
+    rms.sort_by(f64::total_cmp);
+    let med = rms[rms.len() / 2].max(1e-300);
+    f.segments
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.n > 0)
+        .map(|(i, s)| (i, s.rms / med))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The segment of `record_fit` matching segment `i` of `protocol_fit` (same start time) and its
+/// rms ratio there.
+fn ratio_at(protocol_fit: &FitResult, record_fit: &FitResult, i: usize) -> Option<f64> {
+    let t0 = protocol_fit.segments[i].t0;
+    let mut rms: Vec<f64> = record_fit.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
+    rms.sort_by(f64::total_cmp);
+    let med = rms.get(rms.len() / 2)?.max(1e-300);
+    record_fit.segments.iter().find(|s| (s.t0 - t0).abs() < 1e-9).map(|s| s.rms / med)
+}
+
+/// The verdict on a suspect segment `i` of the protocol-loading baseline, given the
+/// record-loading baseline: `Some` when the protocol is to blame.
+pub(super) fn judge(protocol_fit: &FitResult, record_fit: &FitResult, i: usize, ratio: f64) -> Option<Reconstruction> {
+    let after = ratio_at(protocol_fit, record_fit, i)?;
+    let s = &protocol_fit.segments[i];
+    (after <= RESOLVED_SEGMENT_RATIO).then(|| Reconstruction {
+        segment: s.index,
+        kind: s.kind,
+        t: s.t0,
+        rms_ratio_protocol: ratio,
+        rms_ratio_record: after,
+        remedy: LoadingMode::Record,
+        message: format!(
+            "segment {} ({}, from t = {:.2} s) misfits {:.1}× the median segment under the reconstructed \
+             protocol but {:.1}× when the model is driven by the measured load point: the protocol's \
+             break there is wrong, not the physics; diagnosed with record loading",
+            s.index,
+            s.kind.name(),
+            s.t0,
+            ratio,
+            after
+        ),
+    })
+}

@@ -1,0 +1,175 @@
+//! What a diagnosis returns.
+
+use super::{Cause, NullCalibration, Reconstruction};
+use crate::fit::{FitOptions, FitResult};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Numbers from the baseline residuals that point at causes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Evidence {
+    /// Lag-one autocorrelation of the baseline residuals.
+    pub residual_lag1: f64,
+    /// Effective number of independent samples, n (1 − ρ)/(1 + ρ).
+    pub n_effective: f64,
+    /// Slope of the residuals against load-point displacement (friction per µm) and its t value.
+    pub residual_trend_per_um: f64,
+    /// t statistic of that slope with n_eff.
+    pub residual_trend_t: f64,
+    /// Largest per-segment rms over the median per-segment rms.
+    pub segment_rms_ratio: f64,
+    /// Baseline misfit over the noise estimated from sample-to-sample differences.
+    pub misfit_over_noise: f64,
+    /// Slope of the baseline residuals against ln V (model slip rate): a law that heals too
+    /// fast or too slowly at low slip rates leaves residuals that trend with ln V.
+    pub residual_vs_ln_v: Option<f64>,
+    /// Its t value with n_eff.
+    pub residual_vs_ln_v_t: Option<f64>,
+    /// Per-event refits: spread of ln Dc between events in units of its standard error
+    /// (reduced χ²; ≈ 1 when one Dc serves every step and hold).
+    pub dc_consistency_chi2: Option<f64>,
+    /// Slope of ln Dc against ln(V_after/V_before) over the velocity steps (the Aging law fitted
+    /// with one Dc to Slip-law steps, or the reverse, gives Dc that depends on step direction).
+    pub dc_vs_ln_step: Option<f64>,
+    /// Slope of ln Dc against ln(hold duration) over the holds.
+    pub dc_vs_ln_hold: Option<f64>,
+    /// Machine stiffness (1/µm) from the elastic reloading slope at up-steps and reslides
+    /// (median over events; the reload-slope method): a nominal k far from it points at
+    /// `stiffness`.
+    pub k_reload_slope: Option<f64>,
+}
+
+/// One step or hold refitted alone with the baseline law (free mu0, a, b, Dc).
+#[derive(Clone, Debug, Serialize)]
+pub struct EventFit {
+    /// `step` or `hold`.
+    pub event: String,
+    /// Time of the change, s.
+    pub t: f64,
+    /// Load-point velocity before and after, µm/s.
+    pub v_before: f64,
+    /// After.
+    pub v_after: f64,
+    /// Hold duration, s (holds only).
+    pub hold_s: Option<f64>,
+    /// Fitted a, b, Dc (µm).
+    pub a: f64,
+    /// b.
+    pub b: f64,
+    /// Dc, µm.
+    pub dc: f64,
+    /// Standard error of ln Dc.
+    pub ln_dc_stderr: f64,
+    /// rms misfit of the window.
+    pub rms: f64,
+}
+
+/// One candidate extension and its score.
+#[derive(Clone, Debug, Serialize)]
+pub struct Candidate {
+    /// The cause this candidate extension stands for.
+    pub cause: Cause,
+    /// What was changed.
+    pub extension: String,
+    /// ΔBIC with n_eff (negative: better than the baseline).
+    pub delta_bic: f64,
+    /// ΔAIC with n_eff.
+    pub delta_aic: f64,
+    /// rms(extended) / rms(baseline).
+    pub rms_ratio: f64,
+    /// Held-out rms of the baseline and of this extension.
+    pub heldout_rms_before: Option<f64>,
+    /// Held-out rms of the extension.
+    pub heldout_rms_after: Option<f64>,
+    /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
+    pub effect: BTreeMap<String, serde_json::Value>,
+    /// Integrator steps of the candidate's fits (its work; deterministic, unlike wall time).
+    pub steps: u64,
+    /// Its gain against the null distribution under the baseline (decisive, credible
+    /// candidates only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub null: Option<NullCalibration>,
+    /// Free parameters of its fit that ended at a physical bound (such a candidate is not
+    /// named: the data do not constrain it).
+    pub at_bound: Vec<String>,
+    /// The fit.
+    #[serde(skip)]
+    pub fit: Option<FitResult>,
+    /// Its held-out training fit (the start of a combination's held-out fit).
+    #[serde(skip)]
+    pub heldout_fit: Option<FitResult>,
+    /// The options it was fitted with (the base of combinations).
+    #[serde(skip)]
+    pub options: Option<FitOptions>,
+}
+
+/// The gain of the chosen extension.
+#[derive(Clone, Debug, Serialize)]
+pub struct Gain {
+    /// ΔBIC with n_eff.
+    pub delta_bic: f64,
+    /// ΔAIC with n_eff.
+    pub delta_aic: f64,
+    /// rms ratio.
+    pub rms_ratio: f64,
+    /// Held-out rms before.
+    pub heldout_rms_before: Option<f64>,
+    /// Held-out rms after.
+    pub heldout_rms_after: Option<f64>,
+}
+
+/// A second cause found on top of the first.
+#[derive(Clone, Debug, Serialize)]
+pub struct Secondary {
+    /// The second cause.
+    pub cause: Cause,
+    /// ΔBIC_eff of the combined model against the first extension alone.
+    pub delta_bic: f64,
+    /// rms(combined) / rms(first extension).
+    pub rms_ratio: f64,
+    /// Held-out rms of the first extension and of the combination.
+    pub heldout_rms_before: Option<f64>,
+    /// Held-out rms of the combination.
+    pub heldout_rms_after: Option<f64>,
+    /// Effect parameters of the combined fit.
+    pub effect: BTreeMap<String, serde_json::Value>,
+    /// The combined fit.
+    pub fit: FitResult,
+}
+
+/// The diagnosis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Diagnosis {
+    /// What the baseline gets wrong (`none` when no extension earns its parameters).
+    pub cause: Cause,
+    /// The decisive statistic: ΔBIC_eff of the chosen extension (or of the best candidate for `none`).
+    pub confidence: f64,
+    /// Human-readable reason.
+    pub reason: String,
+    /// Residual evidence.
+    pub evidence: Evidence,
+    /// Baseline fit.
+    pub baseline: FitResult,
+    /// Extended fit (absent for `none`).
+    pub extended: Option<FitResult>,
+    /// Gain of the extension.
+    pub gain: Option<Gain>,
+    /// Effect parameters of the chosen extension.
+    pub effect: BTreeMap<String, serde_json::Value>,
+    /// Runner-up cause and its ΔBIC_eff.
+    pub runner_up: Option<(Cause, f64)>,
+    /// All candidates.
+    pub candidates: Vec<Candidate>,
+    /// A second cause that decisively improves on the first extension, when one does.
+    pub secondary: Option<Secondary>,
+    /// Per-event refits of the baseline law.
+    pub per_segment: Vec<EventFit>,
+    /// Held-out split time, s.
+    pub heldout_split_t: f64,
+    /// A protocol-reconstruction problem found before physics was blamed (the diagnosis then
+    /// used record loading).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reconstruction: Option<Reconstruction>,
+    /// The loading the diagnosis used.
+    pub loading: crate::fit::LoadingMode,
+}

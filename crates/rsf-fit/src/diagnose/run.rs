@@ -1,0 +1,480 @@
+//! The diagnosis: baseline, reconstruction check, evidence, candidates, held-out tests, the
+//! null calibration, the decision.
+
+use super::cause::{Cause, builtin, effect_of, other_law};
+use super::events::{dc_consistency, event_windows, fit_event};
+use super::evidence::{evidence, n_eff_of, reload_stiffness, scores};
+use super::heldout::{heldout, split_time};
+use super::null::{calibrate, gain, noise_model, replicate};
+use super::parallel::par_map;
+use super::reconstruction::{SUSPECT_SEGMENT_RATIO, judge, worst_segment};
+use super::starts::{fit_from, slip_rate_range};
+use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Gain, Secondary};
+use crate::data::Record;
+use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
+use crate::segment::Segment;
+use std::collections::BTreeMap;
+
+/// An extension predicts the held-out part credibly when its rms there is at most this
+/// multiple of the baseline's.
+const HELDOUT_TOLERANCE: f64 = 1.05;
+
+/// At most this many decisive candidates are put to the null calibration (each costs
+/// `null_replicates` pairs of refits); the rest keep their place in the table.
+const MAX_CALIBRATED: usize = 3;
+
+/// What the candidates share: the record, the baseline and its evidence.
+struct Ctx<'a> {
+    rec: &'a Record,
+    segs: &'a [Segment],
+    opts: &'a DiagnoseOptions,
+    /// Baseline options (uniform weights, the loading the diagnosis settled on).
+    base_opts: FitOptions,
+    /// Candidate options: a third of the baseline's budget each.
+    cand_opts: FitOptions,
+    base_law: String,
+    p: Prepared,
+    base: FitResult,
+    ev: Evidence,
+    /// The baseline's slip rates, µm/s (the span of the Vc profile).
+    v_range: (f64, f64),
+    t_split: f64,
+    /// The baseline's held-out rms and training fit.
+    ho_base: Option<(f64, FitResult)>,
+}
+
+impl Ctx<'_> {
+    /// Fits the model `o` on `pc` from the nested optimum `from`; a free stiffness also from the
+    /// reload-slope k and softer machines (a stiff nominal k leaves no gradient in k, and series
+    /// compliance of gouge and assembly only ever softens a machine).
+    fn fit_best(&self, pc: &Prepared, o: &FitOptions, from: &Params, threads: usize) -> Option<FitResult> {
+        let first = fit_from(pc, o, from, self.v_range, threads);
+        // only when the fit from the nominal k did not soften the machine: then the nominal may
+        // sit where k has no gradient
+        let stuck = first.as_ref().is_none_or(|f| f.params.k > 0.8 * from.k);
+        if !(o.fit_stiffness && !self.base_opts.fit_stiffness && stuck) {
+            return first;
+        }
+        let mut ks = vec![from.k / 4.0, from.k / 16.0];
+        ks.extend(self.ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > 0.2));
+        ks.into_iter()
+            .filter_map(|k| fit_from(pc, o, &Params { k, ..from.clone() }, self.v_range, threads))
+            .chain(first)
+            .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood))
+    }
+
+    /// The ways to apply `cause`: its extension, and for the evolution law also a mixture (a
+    /// state of each law sharing one Dc: healing partly by time, partly by slip).
+    fn variants(&self, cause: Cause) -> Vec<(String, FitOptions)> {
+        let mut tries = vec![];
+        if let Some(o) = cause.extend(&self.cand_opts, &self.base_law) {
+            tries.push((cause.describe(&self.base_law), o));
+        }
+        if cause == Cause::EvolutionLaw {
+            let other = other_law(&self.base_law);
+            let mut om = self.cand_opts.clone();
+            om.laws.push(builtin(other));
+            om.fix.push("dc1-dc2=0".into());
+            tries.push((format!("a mixture: {} and {other} states sharing Dc", self.base_law), om));
+        }
+        tries
+    }
+
+    /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`).
+    fn fit_cause(
+        &self,
+        pc_of: &dyn Fn(&FitOptions) -> Option<Prepared>,
+        cause: Cause,
+        from: &Params,
+        base: &FitResult,
+        n_eff: f64,
+        threads: usize,
+    ) -> Option<(String, FitOptions, Prepared, FitResult)> {
+        self.variants(cause)
+            .into_iter()
+            .filter_map(|(ext, o)| {
+                let pc = pc_of(&o)?;
+                let f = self.fit_best(&pc, &o, from, threads)?;
+                // a mixture has both states healing (b of one sign); b of opposite signs is a
+                // difference of laws, not a share of time-dependent healing
+                let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
+                let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
+                ok.then_some((ext, o, pc, f))
+            })
+            .min_by(|a, b| scores(base, &a.3, n_eff).0.total_cmp(&scores(base, &b.3, n_eff).0))
+    }
+
+    fn candidate(&self, cause: Cause) -> Option<Candidate> {
+        let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
+        let threads = self.opts.threads;
+        let (extension, o, pc, f) =
+            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, self.ev.n_effective, threads)?;
+        let (dbic, daic) = scores(&self.base, &f, self.ev.n_effective);
+        let ho = match &self.ho_base {
+            Some((_, ft_base)) => heldout(
+                &pc.record,
+                &pc.segments,
+                &o,
+                &|pt: &Prepared, ot: &FitOptions| self.fit_best(pt, ot, &ft_base.params, threads),
+                self.t_split,
+            ),
+            None => None,
+        };
+        // parameters at a bound that the baseline did not already have there
+        let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
+        Some(Candidate {
+            cause,
+            extension,
+            delta_bic: dbic,
+            delta_aic: daic,
+            rms_ratio: f.rms / self.base.rms,
+            heldout_rms_before: self.ho_base.as_ref().map(|h| h.0),
+            heldout_rms_after: ho.as_ref().map(|h| h.0),
+            effect: effect_of(&[cause], &f),
+            steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
+            null: None,
+            at_bound,
+            fit: Some(f),
+            heldout_fit: ho.map(|h| h.1),
+            options: Some(o),
+        })
+    }
+
+    /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
+    /// each refitted with the baseline and with the candidate from the replicate's baseline.
+    fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
+        let (sigma, tau) = noise_model(&self.base);
+        let observed = gain(&self.base, c.fit.as_ref()?, self.ev.n_effective);
+        let seeds: Vec<u64> =
+            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
+        let gains = par_map(&seeds, self.opts.threads, |&seed| {
+            let rec = replicate(&self.p, &self.base, sigma, tau, seed);
+            let mut o = self.base_opts.clone();
+            o.initial =
+                self.base.params.as_initial().into_iter().filter(|(n, _)| n != "g" || o.fit_slip_trend).collect();
+            o.starts = 1;
+            let pb = prepare(&rec, &self.p.segments, &o).ok()?;
+            let fb = fit(&pb, &o).ok()?;
+            let n_eff = n_eff_of(&fb);
+            let pc_of = |oc: &FitOptions| prepare(&rec, &self.p.segments, oc).ok();
+            let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, n_eff, 1)?;
+            Some(gain(&fb, &fc, n_eff))
+        });
+        calibrate(observed, &gains)
+    }
+}
+
+/// Why a decisive candidate is not named: it predicts the held-out part worse (it fits the
+/// training data better but overfits), its fit ran to a physical bound (the data do not
+/// constrain it: e.g. a second state turned into a linear trend), or its gain is not rare
+/// under the baseline and the record's own noise.
+fn ineligible(c: &Candidate, level: f64) -> Option<String> {
+    if !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
+        Some(match c.heldout_rms_after {
+            Some(_) => format!("{} predicted the held-out part worse", c.cause),
+            None => format!("{} could not be fitted to the held-out training part", c.cause),
+        })
+    } else if !c.at_bound.is_empty() {
+        Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
+    } else if let Some(n) = c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)) {
+        Some(format!(
+            "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates reached it)",
+            c.cause, n.false_alarm_probability, n.exceeded, n.replicates
+        ))
+    } else {
+        None
+    }
+}
+
+/// The held-out test passes when the extension predicts no more than 5% worse; it fails when
+/// the extension's training fit fails where the baseline's did not (an extension the training
+/// part cannot pin down is the overfitting the test is there to catch).
+fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
+    match (before, after) {
+        (Some(b), Some(a)) => a <= HELDOUT_TOLERANCE * b,
+        (Some(_), None) => false,
+        _ => true,
+    }
+}
+
+enum Job {
+    Candidate(Cause),
+    Event(usize, usize),
+}
+
+enum Done {
+    Candidate(Option<Box<Candidate>>),
+    Event(Option<EventFit>),
+}
+
+/// The baseline under `o`, and — under protocol loading — the reconstruction check: a segment
+/// that misfits far above the others is refitted with record loading, and if the misfit goes
+/// away there the protocol is blamed and the diagnosis continues with record loading.
+fn baseline(
+    rec: &Record,
+    segs: &[Segment],
+    o: &FitOptions,
+) -> Result<(FitOptions, Prepared, FitResult, Option<super::Reconstruction>), FitError> {
+    let p = prepare(rec, segs, o)?;
+    let base = fit(&p, o)?;
+    if o.loading == LoadingMode::Protocol {
+        if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
+            let or = FitOptions { loading: LoadingMode::Record, ..o.clone() };
+            let pr = prepare(rec, segs, &or)?;
+            if let Ok(fr) = fit(&pr, &or) {
+                if let Some(r) = judge(&base, &fr, i, ratio) {
+                    return Ok((or, pr, fr, Some(r)));
+                }
+            }
+        }
+    }
+    Ok((o.clone(), p, base, None))
+}
+
+/// Runs the diagnosis on a record with its segments.
+pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
+    // uniform weights: the likelihood of noise of one σ everywhere, as lab noise is, so that
+    // ΔBIC has its nominal calibration (with segment weights a free parameter acting only in
+    // sparsely sampled segments would gain about mean(w²) per parameter on pure noise)
+    let o = FitOptions { weighting: Weighting::Uniform, ..opts.fit.clone() };
+    if o.laws.len() != 1 {
+        return Err(FitError::Setup("the baseline has one state variable".into()));
+    }
+    let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
+    let mut ev = evidence(&base);
+    ev.k_reload_slope = reload_stiffness(&p);
+    let t_split = split_time(&p.record, &p.segments);
+    // the baseline's held-out fit first: every extension's held-out fit starts from it
+    let ho_base = if opts.heldout {
+        let oh = FitOptions { mu0_per_segment: false, ..base_opts.clone() };
+        heldout(&p.record, &p.segments, &oh, &|pt: &Prepared, ot: &FitOptions| fit(pt, ot).ok(), t_split)
+    } else {
+        None
+    };
+    let v_range = slip_rate_range(&base).unwrap_or((1e-3, 1e3));
+    let ctx = Ctx {
+        rec,
+        segs,
+        opts,
+        // a candidate the data cannot constrain (e.g. b2 running to its bound) must not
+        // dominate the work: each candidate fit gets a third of the baseline budget
+        cand_opts: FitOptions { budget: base_opts.budget.scaled(1.0 / 3.0), ..base_opts.clone() },
+        base_law: base_opts.laws[0].name(),
+        base_opts,
+        p,
+        base,
+        ev,
+        v_range,
+        t_split,
+        ho_base,
+    };
+    let mut jobs: Vec<Job> = Cause::CANDIDATES
+        .into_iter()
+        .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
+        .map(Job::Candidate)
+        .collect();
+    if opts.per_segment {
+        jobs.extend(event_windows(&ctx.p).into_iter().map(|(a, b)| Job::Event(a, b)));
+    }
+    let done_count = std::sync::atomic::AtomicUsize::new(0);
+    let results = par_map(&jobs, opts.threads, |job| {
+        let (what, out) = match job {
+            Job::Candidate(c) => (c.to_string(), Done::Candidate(ctx.candidate(*c).map(Box::new))),
+            Job::Event(a, b) => {
+                (format!("segment {}", b + 1), Done::Event(fit_event(&ctx.p, &ctx.base_opts, &ctx.base, *a, *b)))
+            }
+        };
+        let d = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(pr) = &opts.progress {
+            pr(d, jobs.len(), &what);
+        }
+        out
+    });
+    let mut candidates = vec![];
+    let mut per_segment = vec![];
+    for r in results {
+        match r {
+            Done::Candidate(Some(c)) => candidates.push(*c),
+            Done::Candidate(None) => {}
+            Done::Event(e) => per_segment.extend(e),
+        }
+    }
+    let mut ev = ctx.ev.clone();
+    (ev.dc_consistency_chi2, ev.dc_vs_ln_step, ev.dc_vs_ln_hold) = dc_consistency(&per_segment);
+    candidates.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+    // the null calibration, best first, for decisive candidates that are otherwise credible,
+    // until one passes
+    let level = opts.false_alarm_level;
+    if opts.null_replicates > 0 {
+        let mut tried = 0;
+        for c in candidates.iter_mut() {
+            if !(c.delta_bic < DECISIVE) || ineligible(c, level).is_some() || tried == MAX_CALIBRATED {
+                continue;
+            }
+            tried += 1;
+            c.null = ctx.calibrate(c);
+            if let Some(pr) = &opts.progress {
+                pr(jobs.len(), jobs.len(), &format!("null calibration of {}", c.cause));
+            }
+            if ineligible(c, level).is_none() {
+                break;
+            }
+        }
+    }
+    let decisive: Vec<&Candidate> = candidates.iter().filter(|c| c.delta_bic < DECISIVE).collect();
+    let chosen = decisive.iter().copied().find(|c| ineligible(c, level).is_none());
+    let rejected: Vec<String> =
+        decisive.iter().take_while(|c| ineligible(c, level).is_some()).filter_map(|c| ineligible(c, level)).collect();
+    // the runner-up: the best other credible candidate (set-aside ones are named in the reason),
+    // else the best other one (with no winner, simply the best-scoring candidate)
+    let others = || candidates.iter().filter(|c| chosen.is_none_or(|ch| ch.cause != c.cause));
+    let runner_up = others()
+        .find(|c| chosen.is_none() || ineligible(c, level).is_none())
+        .or_else(|| others().next())
+        .map(|c| (c.cause, c.delta_bic));
+    let secondary = match chosen {
+        Some(c1) if opts.combinations => secondary(&ctx, c1, &decisive, level),
+        _ => None,
+    };
+    let (cause, reason, extended, gain, effect, confidence) = verdict(&ctx, chosen, &candidates, &rejected, &secondary);
+    Ok(Diagnosis {
+        cause,
+        confidence,
+        reason,
+        evidence: ev,
+        extended,
+        gain,
+        effect,
+        runner_up,
+        secondary,
+        per_segment,
+        heldout_split_t: ctx.t_split,
+        reconstruction,
+        loading: ctx.base_opts.loading,
+        candidates: candidates.clone(),
+        baseline: ctx.base,
+    })
+}
+
+/// A second cause: the winner combined with the two best other credible candidates (further
+/// ones explain less and cost as much), scored against the winner alone with the winner's n_eff.
+fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> Option<Secondary> {
+    let f1 = c1.fit.as_ref()?;
+    let others: Vec<&Candidate> =
+        decisive.iter().copied().filter(|c| ineligible(c, level).is_none() && c.cause != c1.cause).take(2).collect();
+    let n1 = n_eff_of(f1);
+    let o1 = c1.options.clone()?;
+    let threads = ctx.opts.threads;
+    let tries = par_map(&others, threads, |c2| -> Option<Secondary> {
+        let o = c2.cause.extend(&o1, &ctx.base_law)?;
+        let pc = prepare(ctx.rec, ctx.segs, &o).ok()?;
+        // from the winner's optimum, the added extension at its neutral value (as the
+        // candidates start from the baseline's)
+        let f = ctx.fit_best(&pc, &o, &f1.params, threads)?;
+        let (dbic, _) = scores(f1, &f, n1);
+        // held out: from the winner's training optimum
+        let ho = match (&c1.heldout_fit, ctx.opts.heldout) {
+            (Some(ft1), true) => heldout(
+                &pc.record,
+                &pc.segments,
+                &o,
+                &|pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &ft1.params, threads),
+                ctx.t_split,
+            )
+            .map(|h| h.0),
+            _ => None,
+        };
+        Some(Secondary {
+            cause: c2.cause,
+            delta_bic: dbic,
+            rms_ratio: f.rms / f1.rms,
+            heldout_rms_before: c1.heldout_rms_after,
+            heldout_rms_after: ho,
+            effect: effect_of(&[c1.cause, c2.cause], &f),
+            fit: f,
+        })
+    });
+    tries
+        .into_iter()
+        .flatten()
+        .filter(|s| {
+            s.delta_bic < DECISIVE
+                && heldout_ok(s.heldout_rms_before, s.heldout_rms_after)
+                && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
+        })
+        .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+}
+
+type Verdict = (Cause, String, Option<FitResult>, Option<Gain>, BTreeMap<String, serde_json::Value>, f64);
+
+/// The cause, the reason in words, the extended fit, the gain, the effect and the confidence.
+fn verdict(
+    ctx: &Ctx,
+    chosen: Option<&Candidate>,
+    candidates: &[Candidate],
+    rejected: &[String],
+    secondary: &Option<Secondary>,
+) -> Verdict {
+    let n_eff = ctx.ev.n_effective;
+    let rejected_note = if rejected.is_empty() {
+        String::new()
+    } else {
+        format!(" (better-scoring but set aside: {})", rejected.join("; "))
+    };
+    match chosen {
+        Some(c) => (
+            c.cause,
+            format!(
+                "{} improves the fit decisively: ΔBIC = {:.1} with n_eff = {:.0} (threshold {DECISIVE}), rms ratio {:.3}{}{}{}{}",
+                c.extension,
+                c.delta_bic,
+                n_eff,
+                c.rms_ratio,
+                match (c.heldout_rms_before, c.heldout_rms_after) {
+                    (Some(b), Some(a)) => format!(", held-out rms {b:.2e} → {a:.2e}"),
+                    _ => String::new(),
+                },
+                match &c.null {
+                    Some(n) => format!(
+                        ", false-alarm probability {:.1e} ({} of {} noise replicates reached its gain)",
+                        n.false_alarm_probability, n.exceeded, n.replicates
+                    ),
+                    None => String::new(),
+                },
+                match secondary {
+                    Some(s) => format!("; adding {} gains a further ΔBIC = {:.1}", s.cause, s.delta_bic),
+                    None => String::new(),
+                },
+                rejected_note
+            ),
+            c.fit.clone(),
+            Some(Gain {
+                delta_bic: c.delta_bic,
+                delta_aic: c.delta_aic,
+                rms_ratio: c.rms_ratio,
+                heldout_rms_before: c.heldout_rms_before,
+                heldout_rms_after: c.heldout_rms_after,
+            }),
+            c.effect.clone(),
+            c.delta_bic,
+        ),
+        None => (
+            Cause::None,
+            match candidates.first() {
+                Some(_) if !rejected.is_empty() => format!(
+                    "no extension is both decisive and credible: {} (n_eff = {n_eff:.0}); the baseline stands",
+                    rejected.join("; "),
+                ),
+                Some(b) => format!(
+                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {n_eff:.0}",
+                    b.extension, b.delta_bic
+                ),
+                None => "no candidate could be fitted".into(),
+            },
+            None,
+            None,
+            BTreeMap::new(),
+            candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
+        ),
+    }
+}

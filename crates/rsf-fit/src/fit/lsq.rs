@@ -1,0 +1,239 @@
+//! Starting points and Levenberg–Marquardt under the work budget: [`fit`].
+
+use super::covariance::{covariance, intervals};
+use super::forward::{evaluate, model_slip_rate};
+use super::params::{Constraint, within_bounds};
+use super::{
+    BudgetHit, Curve, FitError, FitOptions, FitResult, ParamName, Params, Prepared, SegmentRow, parameter_map,
+};
+use crate::lm::{self, Eval};
+use rsf_core::{n_params, state_offset};
+use rsf_solvers::SolveError;
+use std::cell::Cell;
+use std::collections::BTreeMap;
+
+/// Fits the model to the prepared record: Levenberg–Marquardt from several starting points
+/// (the best optimum wins), under the work budget of `opts.budget`.
+pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
+    let map = parameter_map(p, opts)?;
+    let m = map.free.len();
+    let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
+    // work counted in integrator steps: `used` over the whole fit, `cap` for the current start
+    let used = Cell::new(0u64);
+    let cap = Cell::new(opts.budget.steps);
+    let hit = Cell::new(None::<BudgetHit>);
+    let clock = std::time::Instant::now();
+    let objective = |theta: &[f64]| -> Result<Eval, SolveError> {
+        if used.get() >= cap.get() {
+            hit.set(Some(BudgetHit::StepBudget));
+            return Err(SolveError::Input("the fit's step budget is exhausted".into()));
+        }
+        if opts.budget.wall_clock_guard.is_some_and(|g| clock.elapsed().as_secs_f64() > g) {
+            hit.set(Some(BudgetHit::WallClockGuard));
+            return Err(SolveError::Input("the fit's wall-clock guard was hit".into()));
+        }
+        let e = evaluate(p, &map, opts, theta, opts.rtol)?;
+        used.set(used.get() + e.steps);
+        let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
+        let mut j = e.raw_j;
+        for (row, w) in j.chunks_mut(m).zip(&p.weights) {
+            row.iter_mut().for_each(|x| *x *= w);
+        }
+        Ok(Eval { r, j })
+    };
+    // starting points: the data-derived guess, then Dc and a scaled
+    let theta0 = map.theta_of(&map.base);
+    let mut starts = vec![theta0.clone()];
+    let scale = |name: &str, f: f64| {
+        let mut t = theta0.clone();
+        for (k, n) in map.free_names().iter().enumerate() {
+            if n.starts_with(name) {
+                t[k] = if map.is_log(k) { t[k] + f.ln() } else { t[k] * f };
+            }
+        }
+        t
+    };
+    // several states: start from the one-state optimum, the extra states small and slower, with
+    // either sign of b (a strengthening second state is as plausible as a weakening one)
+    if opts.laws.len() > 1 && opts.starts > 1 {
+        let mut o1 = opts.clone();
+        o1.laws.truncate(1);
+        // constraints and starting values of the first state and the globals only
+        o1.fix.retain(|c| Constraint::parse(c).is_ok_and(|c| c.max_state() <= 1));
+        o1.initial.retain(|(n, _)| ParamName::parse(n).is_none_or(|p| p.state().is_none_or(|i| i <= 1)));
+        // a caller that gives the first state's start (diagnosis: the baseline optimum) spares
+        // the nested one-state fit
+        let given = |n: &str| opts.initial.iter().any(|(x, _)| x == n);
+        let r1 = if given("b1") && given("dc1") && given("a") && given("mu0") {
+            let f = |i: usize| map.base[i];
+            Ok(Params {
+                mu0: f(0),
+                v0: p.v_init,
+                a: f(1),
+                b: vec![f(state_offset(0))],
+                dc: vec![f(state_offset(0) + 1)],
+                k: f(2),
+                g: f(3),
+                laws: vec![],
+                law_params: BTreeMap::new(),
+                mu0_offsets: vec![],
+            })
+        } else {
+            fit(p, &o1).map(|r| {
+                used.set(used.get() + r.steps);
+                r.params
+            })
+        };
+        if let Ok(r1) = r1 {
+            for sign in [1.0, -1.0] {
+                let mut full = map.base.clone();
+                full[0] = r1.mu0;
+                full[1] = r1.a;
+                full[2] = r1.k;
+                full[3] = r1.g;
+                full[state_offset(0)] = r1.b[0];
+                full[state_offset(0) + 1] = r1.dc[0];
+                for i in 1..opts.laws.len() {
+                    full[state_offset(i)] = sign * 0.2 * r1.b[0].abs();
+                    full[state_offset(i) + 1] = r1.dc[0] * 10f64.powi(i as i32);
+                }
+                starts.insert(0, map.theta_of(&full));
+            }
+        }
+    }
+    // b of either sign: velocity-strengthening evolution (b < 0) looks like a slow rise after
+    // an up-step, which a positive-b start can mistake for a vanishing Dc
+    for (name, f) in [("dc", 3.0), ("b", -1.0), ("dc", 0.3), ("a", 1.5), ("dc", 10.0), ("a", 0.7)] {
+        starts.push(scale(name, f));
+    }
+    starts.truncate(opts.starts.max(1) + if opts.laws.len() > 1 { 2 } else { 0 });
+    let mut best: Option<lm::LmResult> = None;
+    // the budget that stopped the best start, if one did: not converged, and said so
+    let mut best_hit = None;
+    let mut first_err = None;
+    let mut first_steps: Option<u64> = None;
+    for s in &starts {
+        let before = used.get();
+        if before >= opts.budget.steps {
+            break;
+        }
+        // later starts get a multiple of the first start's work
+        let share = first_steps.map_or(u64::MAX, |f| (opts.budget.per_start_factor * f.max(1) as f64) as u64);
+        cap.set(opts.budget.steps.min(before.saturating_add(share)));
+        hit.set(None);
+        let res = lm::minimize(s, &objective, opts.max_iter);
+        first_steps.get_or_insert(used.get() - before);
+        match res {
+            Ok(r) => {
+                if best.as_ref().is_none_or(|b| r.ssr < b.ssr) {
+                    best_hit = hit.get();
+                    best = Some(r);
+                }
+            }
+            Err(e) => {
+                first_err.get_or_insert(e);
+            }
+        }
+        if hit.get() == Some(BudgetHit::WallClockGuard) {
+            break;
+        }
+    }
+    let Some(best) = best else {
+        return Err(FitError::Start(
+            first_err
+                .unwrap_or_else(|| SolveError::Input("the step budget ran out before the first evaluation".into())),
+        ));
+    };
+    let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
+    used.set(used.get() + e.steps);
+    let n = data.len();
+    let resid: Vec<f64> = e.model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
+    let ssr_raw: f64 = resid.iter().map(|x| x * x).sum();
+    // σ² from the unweighted residuals
+    let s2 = ssr_raw / (n as f64 - m as f64).max(1.0);
+    let cov = covariance(&e.raw_j, &p.weights, m, s2);
+    let (ci95, stderr) = intervals(&map, &best.theta, &cov);
+    let full = map.full(&best.theta);
+    let at_bound: Vec<String> = map
+        .free
+        .iter()
+        .filter(|&&i| {
+            let mut f2 = full.clone();
+            f2[i] *= 0.999;
+            let mut f3 = full.clone();
+            f3[i] *= 1.001;
+            within_bounds(&map, &f2).is_err() || within_bounds(&map, &f3).is_err()
+        })
+        .map(|&i| map.names[i].clone())
+        .collect();
+    // the likelihood of what the fit minimises: noise σ/w_r at sample r (w normalised to mean
+    // square 1; uniform weights give the usual Gaussian likelihood), so that models compared by
+    // AIC/BIC are compared on the objective they were fitted to
+    let ssr_w: f64 = resid.iter().zip(&p.weights).map(|(x, w)| (w * x).powi(2)).sum();
+    let sum_ln_w: f64 = p.weights.iter().map(|w| w.ln()).sum();
+    let ll = sum_ln_w - 0.5 * n as f64 * ((2.0 * std::f64::consts::PI * ssr_w / n as f64).ln() + 1.0);
+    let kf = (m + 1) as f64;
+    let np = n_params(map.n_states);
+    let params = Params {
+        mu0: full[0],
+        v0: p.v_init,
+        a: full[1],
+        b: (0..map.n_states).map(|i| full[state_offset(i)]).collect(),
+        dc: (0..map.n_states).map(|i| full[state_offset(i) + 1]).collect(),
+        k: full[2],
+        g: full[3],
+        laws: opts.laws.iter().map(|l| l.name()).collect(),
+        law_params: opts
+            .laws
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| {
+                l.parameters().first().map(|(nm, _)| (format!("{nm}{}", i + 1), full[state_offset(i) + 2]))
+            })
+            .collect(),
+        mu0_offsets: full[np..].to_vec(),
+    };
+    let mut rows: Vec<SegmentRow> = p
+        .segments
+        .iter()
+        .enumerate()
+        .map(|(k, s)| SegmentRow { index: k + 1, kind: s.kind, t0: s.t0, t1: s.t1, v: s.v, n: 0, rms: 0.0 })
+        .collect();
+    for (r, &sg) in p.seg_of.iter().enumerate() {
+        rows[sg].n += 1;
+        rows[sg].rms += resid[r] * resid[r];
+    }
+    rows.iter_mut().for_each(|r| r.rms = if r.n > 0 { (r.rms / r.n as f64).sqrt() } else { 0.0 });
+    let curve = Curve {
+        time: p.used.iter().map(|&i| p.record.time[i]).collect(),
+        load_point: p.used.iter().map(|&i| p.record.load_point[i]).collect(),
+        data,
+        model: e.model_mu,
+        segment: p.seg_of.clone(),
+        slip_rate: model_slip_rate(p, &map, opts, &full).unwrap_or_default(),
+    };
+    Ok(FitResult {
+        params,
+        ci95,
+        stderr,
+        constraints: map.constraints.clone(),
+        at_bound,
+        rms: (ssr_raw / n as f64).sqrt(),
+        n,
+        n_free: m,
+        log_likelihood: ll,
+        aic: 2.0 * kf - 2.0 * ll,
+        bic: kf * (n as f64).ln() - 2.0 * ll,
+        segments: rows,
+        iterations: best.iterations,
+        stop_reason: best.reason,
+        budget_hit: best_hit,
+        steps: used.get(),
+        starts: starts.len(),
+        loading: opts.loading,
+        weighting: opts.weighting,
+        curve,
+        theta: best.theta.clone(),
+        cov_theta: cov.as_slice().to_vec(),
+    })
+}

@@ -1,0 +1,33 @@
+//! Fitting a rate-and-state model to a measured record.
+//!
+//! Parameters live in the layout of [`rsf_core::n_params`] (`mu0, a, k, b_i, dc_i, q_i`) plus,
+//! optionally, one friction offset per segment after the first (`mu0` per segment). Positive
+//! quantities (a, k, Dc, Vc) are fitted as logarithms, so they cannot leave their domain; `b`,
+//! `mu0`, offsets and Nagata's `c` are fitted directly. Linear constraints `X=c`, `X-Y=c` and
+//! `X+Y=c` remove Y (or X) from the free set and express it through the other.
+
+//!
+//! | file | what |
+//! |---|---|
+//! | `options.rs` | [`FitOptions`], loading and weighting modes, the work budget, errors |
+//! | `prepare.rs` | samples and weights of a record ([`prepare`]), data-derived starting values |
+//! | `params.rs` | the parameter map: names, layout, log transforms, constraints, physical bounds |
+//! | `forward.rs` | the forward model and its sensitivities at the used samples |
+//! | `lsq.rs` | starting points and Levenberg–Marquardt under the work budget: [`fit`] |
+//! | `covariance.rs` | covariance, standard errors and 95% intervals at the optimum |
+//! | `result.rs` | [`FitResult`], [`Params`], the segment table and the fitted curve |
+
+mod covariance;
+mod forward;
+mod lsq;
+mod options;
+mod params;
+mod prepare;
+mod result;
+
+pub use forward::model_curve;
+pub use lsq::fit;
+pub use options::{Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, Weighting};
+pub use params::{ParamMap, ParamName, parameter_map};
+pub use prepare::{Prepared, initial_guess, prepare};
+pub use result::{Curve, Estimate, FitResult, Params, SegmentRow};

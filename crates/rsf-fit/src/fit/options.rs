@@ -1,0 +1,155 @@
+//! Fit settings, the work budget and errors.
+
+use rsf_core::DynStateLaw;
+use rsf_solvers::SolveError;
+use serde::Serialize;
+use std::sync::Arc;
+
+/// Step budget per piece for forward solves inside fits: a trial point that needs more (a
+/// very stiff corner of parameter space) fails quickly and LM steps back.
+pub const FIT_MAX_STEPS: u64 = 200_000;
+
+/// What drives the forward model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LoadingMode {
+    /// The measured load-point history (piecewise linear between samples).
+    Record,
+    /// The idealised protocol detected by segmentation (constant velocities).
+    Protocol,
+}
+
+/// How samples are weighted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Weighting {
+    /// Each segment counts equally (weight ∝ 1/N_samples of the segment).
+    EqualSegments,
+    /// Every sample counts equally.
+    Uniform,
+}
+
+/// Fit settings.
+#[derive(Clone, Debug)]
+pub struct FitOptions {
+    /// One law per state variable.
+    pub laws: Vec<Arc<dyn DynStateLaw>>,
+    /// Stiffness k, 1/µm (initial value when fitted).
+    pub stiffness: f64,
+    /// Fit k as well.
+    pub fit_stiffness: bool,
+    /// Fit a slip trend g (friction per µm of slip) as well.
+    pub fit_slip_trend: bool,
+    /// Constraints, e.g. `a-b=-0.003`, `dc=10`.
+    pub fix: Vec<String>,
+    /// A friction offset per segment.
+    pub mu0_per_segment: bool,
+    /// Use only the first `window_um` µm of load-point travel of each segment (and the last of
+    /// the first segment); holds are used whole.
+    pub window_um: Option<f64>,
+    /// Sample weights.
+    pub weighting: Weighting,
+    /// What drives the model.
+    pub loading: LoadingMode,
+    /// Integrator tolerance.
+    pub rtol: f64,
+    /// LM iteration limit per start.
+    pub max_iter: usize,
+    /// Number of starting points (1: the data-derived guess only).
+    pub starts: usize,
+    /// Initial values overriding the data-derived guesses (`name`, value).
+    pub initial: Vec<(String, f64)>,
+    /// How much work the fit may do (counted, so the result never depends on the machine).
+    pub budget: Budget,
+}
+
+/// The work a fit may do, counted in integrator steps of its forward solves, never in wall
+/// time: the same record and options give the same answer on any machine, at any load, with
+/// any number of threads. Past the budget, evaluations fail and Levenberg–Marquardt returns the
+/// best point it has, and the result says so ([`BudgetHit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// Integrator steps of all forward solves of the fit (all starts together).
+    pub steps: u64,
+    /// Each start after the first may take at most this many times the steps of the first
+    /// (a start that wanders into a stiff corner of parameter space must not hold the fit up).
+    pub per_start_factor: f64,
+    /// Opt-in wall-clock guard, s (off by default). When it is hit the result depends on the
+    /// machine, and says so.
+    pub wall_clock_guard: Option<f64>,
+}
+
+impl Budget {
+    /// The default: 40 million integrator steps, about 30 s of fitting on one core of the
+    /// 2-core reference machine (docs/BENCHMARKS.md), the wall-time budget this replaces.
+    pub const DEFAULT_STEPS: u64 = 40_000_000;
+
+    /// A budget of `steps` integrator steps, five times the first start's work for later
+    /// starts, no wall-clock guard.
+    pub fn steps(steps: u64) -> Self {
+        Self { steps, per_start_factor: 5.0, wall_clock_guard: None }
+    }
+
+    /// This budget scaled by `f` (a diagnosis gives each candidate a share of the baseline's).
+    pub fn scaled(self, f: f64) -> Self {
+        Self { steps: ((self.steps as f64) * f).round() as u64, ..self }
+    }
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Self::steps(Self::DEFAULT_STEPS)
+    }
+}
+
+/// Which budget stopped the best start before it converged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BudgetHit {
+    /// The integrator-step budget ([`Budget::steps`]): deterministic.
+    StepBudget,
+    /// The opt-in wall-clock guard: the result depends on the machine.
+    WallClockGuard,
+}
+
+impl std::fmt::Display for BudgetHit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::StepBudget => "step budget exhausted",
+            Self::WallClockGuard => "wall-clock guard hit",
+        })
+    }
+}
+
+impl FitOptions {
+    /// Defaults for `n` states of `law` at stiffness `k`.
+    pub fn new(laws: Vec<Arc<dyn DynStateLaw>>, k: f64) -> Self {
+        Self {
+            laws,
+            stiffness: k,
+            fit_stiffness: false,
+            fit_slip_trend: false,
+            fix: vec![],
+            mu0_per_segment: false,
+            window_um: None,
+            weighting: Weighting::EqualSegments,
+            loading: LoadingMode::Record,
+            rtol: 1e-7,
+            max_iter: 100,
+            starts: 5,
+            initial: vec![],
+            budget: Budget::default(),
+        }
+    }
+}
+
+/// A fit error, in words.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Bad settings.
+    #[error("{0}")]
+    Setup(String),
+    /// The model could not be evaluated at the starting point.
+    #[error("the model cannot be evaluated at the starting point: {0}")]
+    Start(SolveError),
+}

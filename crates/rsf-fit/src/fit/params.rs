@@ -1,0 +1,341 @@
+//! The parameter map: names, the full-vector layout, which entries are free (and fitted as
+//! logarithms), constraints between them, and physical bounds.
+
+use super::{FitError, FitOptions, Prepared, initial_guess};
+use rsf_core::{Model, N_GLOBAL, StateVariable, n_params, param_index, state_offset};
+
+/// A parameter name, parsed: the one place where names such as `b2`, `dc1`, `vc1` or
+/// `mu0_seg3` are read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ParamName {
+    /// Steady-state friction at v0.
+    Mu0,
+    /// Direct effect a.
+    A,
+    /// Stiffness k.
+    K,
+    /// Slip trend g.
+    G,
+    /// b of state i (1-based).
+    B(usize),
+    /// Dc of state i (1-based).
+    Dc(usize),
+    /// A law's own parameter (e.g. `vc`) of state i (1-based).
+    Law(String, usize),
+    /// The friction offset of segment s (1-based, from 2).
+    Mu0Seg(usize),
+}
+
+impl ParamName {
+    /// Parses a name; `None` when it has no known form.
+    pub fn parse(name: &str) -> Option<Self> {
+        let name = name.trim();
+        match name {
+            "mu0" => return Some(Self::Mu0),
+            "a" => return Some(Self::A),
+            "k" => return Some(Self::K),
+            "g" => return Some(Self::G),
+            _ => {}
+        }
+        if let Some(s) = name.strip_prefix("mu0_seg") {
+            return s.parse().ok().filter(|&s| s >= 2).map(Self::Mu0Seg);
+        }
+        let split = name.find(|c: char| c.is_ascii_digit())?;
+        let (stem, idx) = name.split_at(split);
+        let i: usize = idx.parse().ok().filter(|&i| i >= 1)?;
+        match stem {
+            "b" => Some(Self::B(i)),
+            "dc" => Some(Self::Dc(i)),
+            s if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphabetic()) => Some(Self::Law(s.to_string(), i)),
+            _ => None,
+        }
+    }
+    /// The state variable (1-based) this parameter belongs to, if any.
+    pub fn state(&self) -> Option<usize> {
+        match self {
+            Self::B(i) | Self::Dc(i) | Self::Law(_, i) => Some(*i),
+            _ => None,
+        }
+    }
+}
+
+/// A linear constraint as written: `X=c`, `X-Y=c` or `X+Y=c`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Constraint {
+    /// The first name.
+    pub x: String,
+    /// The second name and the sign it enters with (`-` or `+`), when there is one.
+    pub y: Option<(char, String)>,
+    /// The constant.
+    pub value: f64,
+}
+
+impl Constraint {
+    /// Parses `c`; the error names what is wrong.
+    pub fn parse(c: &str) -> Result<Self, FitError> {
+        let (lhs, rhs) = c
+            .split_once('=')
+            .ok_or_else(|| FitError::Setup(format!("constraint `{c}`: expected NAME=VALUE or NAME-NAME=VALUE")))?;
+        let value: f64 =
+            rhs.trim().parse().map_err(|_| FitError::Setup(format!("constraint `{c}`: `{rhs}` is not a number")))?;
+        let lhs = lhs.trim();
+        Ok(match lhs.char_indices().skip(1).find(|(_, ch)| *ch == '-' || *ch == '+') {
+            None => Self { x: lhs.to_string(), y: None, value },
+            Some((pos, op)) => {
+                Self { x: lhs[..pos].trim().to_string(), y: Some((op, lhs[pos + 1..].trim().to_string())), value }
+            }
+        })
+    }
+    /// The highest state variable (1-based) the constraint names, 0 for none.
+    pub fn max_state(&self) -> usize {
+        std::iter::once(&self.x)
+            .chain(self.y.as_ref().map(|y| &y.1))
+            .filter_map(|n| ParamName::parse(n).and_then(|p| p.state()))
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// How a full-vector entry depends on θ.
+#[derive(Clone, Debug)]
+pub(super) enum Slot {
+    Fixed,
+    Free {
+        k: usize,
+        log: bool,
+    },
+    /// value = sign · (full[src] − c)
+    Derived {
+        src: usize,
+        sign: f64,
+        c: f64,
+    },
+}
+
+/// The parameter map of a fit.
+#[derive(Clone, Debug)]
+pub struct ParamMap {
+    pub(super) n_states: usize,
+    pub(super) names: Vec<String>,
+    pub(super) slots: Vec<Slot>,
+    pub(super) base: Vec<f64>,
+    pub(super) free: Vec<usize>,
+    pub(super) constraints: Vec<String>,
+}
+
+fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
+    let mut v = vec!["mu0".to_string(), "a".into(), "k".into(), "g".into()];
+    for (i, l) in opts.laws.iter().enumerate() {
+        let q = l.parameters().first().map(|p| p.0).unwrap_or("q");
+        v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1)]);
+    }
+    v.extend((0..n_off).map(|s| format!("mu0_seg{}", s + 2)));
+    v
+}
+
+impl ParamMap {
+    /// Full parameter vector at θ.
+    pub fn full(&self, theta: &[f64]) -> Vec<f64> {
+        let mut f = self.base.clone();
+        for (i, s) in self.slots.iter().enumerate() {
+            if let Slot::Free { k, log } = s {
+                f[i] = if *log { theta[*k].exp() } else { theta[*k] };
+            }
+        }
+        for (i, s) in self.slots.iter().enumerate() {
+            if let Slot::Derived { src, sign, c } = s {
+                f[i] = sign * (f[*src] - c);
+            }
+        }
+        f
+    }
+    /// ∂full/∂θ as a dense (full × m) row-major matrix.
+    pub(super) fn jac(&self, theta: &[f64]) -> Vec<f64> {
+        let m = self.free.len();
+        let f = self.full(theta);
+        let mut d = vec![0.0; self.slots.len() * m];
+        for (i, s) in self.slots.iter().enumerate() {
+            if let Slot::Free { k, log } = s {
+                d[i * m + k] = if *log { f[i] } else { 1.0 };
+            }
+        }
+        for (i, s) in self.slots.iter().enumerate() {
+            if let Slot::Derived { src, sign, .. } = s {
+                for k in 0..m {
+                    d[i * m + k] = sign * d[src * m + k];
+                }
+            }
+        }
+        d
+    }
+    /// θ for a full vector (free entries only).
+    pub(super) fn theta_of(&self, full: &[f64]) -> Vec<f64> {
+        let mut t = vec![0.0; self.free.len()];
+        for (i, s) in self.slots.iter().enumerate() {
+            if let Slot::Free { k, log } = s {
+                t[*k] = if *log { full[i].ln() } else { full[i] };
+            }
+        }
+        t
+    }
+    /// Free-parameter names in θ order.
+    pub fn free_names(&self) -> Vec<String> {
+        self.free.iter().map(|&i| self.names[i].clone()).collect()
+    }
+    /// Whether θ entry k is a logarithm.
+    pub fn is_log(&self, k: usize) -> bool {
+        matches!(self.slots[self.free[k]], Slot::Free { log: true, .. })
+    }
+    /// Builds the model for a full vector.
+    pub(super) fn model(&self, opts: &FitOptions, full: &[f64], v0: f64) -> Result<Model, String> {
+        let mut m = Model::new(0.0, v0, 1.0, 1.0);
+        m.states = opts.laws.iter().map(|l| StateVariable::from_shared(l.clone(), 0.0, 1.0)).collect();
+        m.with_parameter_vector(&full[..n_params(self.n_states)])
+    }
+}
+
+/// Builds the parameter map: layout, defaults, free set, constraints.
+pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitError> {
+    let n = opts.laws.len();
+    if n == 0 {
+        return Err(FitError::Setup("at least one state variable is needed".into()));
+    }
+    let n_off = if opts.mu0_per_segment { p.segments.len().saturating_sub(1) } else { 0 };
+    let np = n_params(n);
+    let names = full_names(opts, n_off);
+    let (mu0, a, b, dc) = initial_guess(p);
+    let mut base = vec![0.0; np + n_off];
+    base[0] = mu0;
+    base[1] = a;
+    base[2] = opts.stiffness;
+    let moving: Vec<f64> = p.segments.iter().filter(|s| s.v > 0.0).map(|s| s.v).collect();
+    let vmin = moving.iter().copied().fold(f64::INFINITY, f64::min);
+    for (i, law) in opts.laws.iter().enumerate() {
+        let off = state_offset(i);
+        // split b between states; later states slower (Dc × 10 per state)
+        base[off] = b * if n == 1 { 1.0 } else { 0.6 * 0.4f64.powi(i as i32) / 0.6f64.max(1e-9) * 0.6 };
+        base[off + 1] = dc * 10f64.powi(i as i32);
+        base[off + 2] = match law.parameters().first() {
+            Some(("vc", _)) => vmin,
+            Some((_, v)) => *v,
+            None => 0.0,
+        };
+    }
+    let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
+    let log_param = |i: usize| {
+        i == 1
+            || i == 2
+            || (i >= N_GLOBAL
+                && i < np
+                && ((i - N_GLOBAL) % 3 == 1 || ((i - N_GLOBAL) % 3 == 2 && names[i].starts_with("vc"))))
+    };
+    let mut free_idx = vec![0usize, 1];
+    if opts.fit_stiffness {
+        free_idx.push(2);
+    }
+    if opts.fit_slip_trend {
+        free_idx.push(3);
+    }
+    for (i, law) in opts.laws.iter().enumerate() {
+        let off = state_offset(i);
+        free_idx.extend([off, off + 1]);
+        if !law.parameters().is_empty() {
+            free_idx.push(off + 2);
+        }
+    }
+    free_idx.extend(np..np + n_off);
+    // initial overrides
+    let tmp_model = {
+        let mut m = Model::new(0.0, 1.0, 1.0, 1.0);
+        for l in &opts.laws {
+            m.states.push(StateVariable::from_shared(l.clone(), 0.0, 1.0));
+        }
+        m
+    };
+    let known: Vec<&String> = names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| {
+            !(*i >= N_GLOBAL
+                && *i < np
+                && (i - N_GLOBAL) % 3 == 2
+                && opts.laws[(i - N_GLOBAL) / 3].parameters().is_empty())
+        })
+        .map(|(_, n)| n)
+        .collect();
+    let index = |name: &str| -> Result<usize, FitError> {
+        param_index(&tmp_model, name).or_else(|| names.iter().position(|x| x == name && known.contains(&x))).ok_or_else(
+            || {
+                FitError::Setup(format!(
+                    "unknown parameter `{name}` (known: {})",
+                    known.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                ))
+            },
+        )
+    };
+    for (name, v) in &opts.initial {
+        base[index(name)?] = *v;
+    }
+    // constraints
+    let mut constraints = vec![];
+    for c in &opts.fix {
+        let parsed = Constraint::parse(c)?;
+        match &parsed.y {
+            None => {
+                let i = index(&parsed.x)?;
+                base[i] = parsed.value;
+                free_idx.retain(|&j| j != i);
+                slots[i] = Slot::Fixed;
+            }
+            Some((op, y)) => {
+                let (ix, iy) = (index(&parsed.x)?, index(y)?);
+                // X − Y = c  →  Y = X − c ;  X + Y = c  →  Y = −(X − c)
+                let sign = if *op == '-' { 1.0 } else { -1.0 };
+                free_idx.retain(|&j| j != iy);
+                slots[iy] = Slot::Derived { src: ix, sign, c: parsed.value };
+                if !free_idx.contains(&ix) && !matches!(slots[ix], Slot::Fixed) {
+                    return Err(FitError::Setup(format!("constraint `{c}`: `{}` is itself constrained", parsed.x)));
+                }
+            }
+        }
+        constraints.push(c.clone());
+    }
+    for (k, &i) in free_idx.iter().enumerate() {
+        let log = log_param(i);
+        if log && !(base[i] > 0.0) {
+            return Err(FitError::Setup(format!("`{}` must start positive (got {})", names[i], base[i])));
+        }
+        slots[i] = Slot::Free { k, log };
+    }
+    // derived values follow their sources at the start
+    let map = ParamMap { n_states: n, names, slots, base, free: free_idx, constraints };
+    let theta = map.theta_of(&map.base);
+    let base = map.full(&theta);
+    Ok(ParamMap { base, ..map })
+}
+
+/// Physical bounds of each full-vector entry: outside them a trial point is rejected (so LM
+/// cannot wander into regions where the model means nothing and integrates slowly).
+pub(super) fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
+    let np = n_params(map.n_states);
+    for (i, &v) in full.iter().enumerate().take(np) {
+        let (lo, hi) = match i {
+            0 => (-10.0, 10.0),
+            1 => (1e-7, 1.0),
+            2 => (1e-9, 1e4),
+            3 => (-1e-2, 1e-2),
+            _ => match (i - N_GLOBAL) % 3 {
+                2 if map.names[i].starts_with("vc") => (1e-9, 1e6),
+                0 => (-1.0, 1.0),
+                // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
+                // record of 1–1000 Hz can resolve
+                1 => (1e-2, 1e7),
+                _ => (-1e9, 1e9),
+            },
+        };
+        if !(v >= lo && v <= hi) {
+            return Err(format!("`{}` = {v:e} is outside its physical range [{lo:e}, {hi:e}]", map.names[i]));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,150 @@
+//! What a fit returns.
+
+use super::{BudgetHit, LoadingMode, Weighting};
+use crate::lm::StopReason;
+use crate::segment::SegmentKind;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// A parameter's value with its uncertainty.
+#[derive(Clone, Debug, Serialize)]
+pub struct Estimate {
+    /// Best-fit value.
+    pub value: f64,
+    /// Standard error (linearised).
+    pub stderr: f64,
+    /// 95% interval (asymmetric for log-fitted parameters).
+    pub ci95: [f64; 2],
+}
+
+/// One segment of the fitted record with its misfit.
+#[derive(Clone, Debug, Serialize)]
+pub struct SegmentRow {
+    /// 1-based index.
+    pub index: usize,
+    /// Kind.
+    pub kind: SegmentKind,
+    /// Start and end time, s.
+    pub t0: f64,
+    /// End time, s.
+    pub t1: f64,
+    /// Load-point velocity, µm/s.
+    pub v: f64,
+    /// Samples used in the fit.
+    pub n: usize,
+    /// RMS misfit of the used samples.
+    pub rms: f64,
+}
+
+/// Fitted model parameters in physical units.
+#[derive(Clone, Debug, Serialize)]
+pub struct Params {
+    /// Steady-state friction at v0.
+    pub mu0: f64,
+    /// Reference slip rate (= the initial load-point velocity), µm/s.
+    pub v0: f64,
+    /// Direct effect.
+    pub a: f64,
+    /// b_i.
+    pub b: Vec<f64>,
+    /// Dc_i, µm.
+    pub dc: Vec<f64>,
+    /// Stiffness, 1/µm.
+    pub k: f64,
+    /// Slip trend g, friction per µm of slip (0 unless fitted or fixed).
+    pub g: f64,
+    /// Laws, per state.
+    pub laws: Vec<String>,
+    /// Law-specific parameters by name (e.g. `vc1`).
+    pub law_params: BTreeMap<String, f64>,
+    /// Per-segment friction offsets (segment 2 onward), when fitted.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub mu0_offsets: Vec<f64>,
+}
+
+impl Params {
+    /// These parameters as `FitOptions::initial` starting values (`mu0`, `a`, `k`, `g`, `b1`,
+    /// `dc1`, …, law parameters such as `vc1`): to restart a related fit from an optimum.
+    pub fn as_initial(&self) -> Vec<(String, f64)> {
+        let mut v =
+            vec![("mu0".to_string(), self.mu0), ("a".into(), self.a), ("k".into(), self.k), ("g".into(), self.g)];
+        for (i, (b, dc)) in self.b.iter().zip(&self.dc).enumerate() {
+            v.push((format!("b{}", i + 1), *b));
+            v.push((format!("dc{}", i + 1), *dc));
+        }
+        v.extend(self.law_params.iter().map(|(n, x)| (n.clone(), *x)));
+        v.extend(self.mu0_offsets.iter().enumerate().map(|(k, x)| (format!("mu0_seg{}", k + 2), *x)));
+        v
+    }
+}
+
+/// The result of a fit.
+#[derive(Clone, Debug, Serialize)]
+pub struct FitResult {
+    /// Parameters.
+    pub params: Params,
+    /// Free parameters with standard errors and 95% intervals.
+    pub ci95: BTreeMap<String, [f64; 2]>,
+    /// Standard errors of the free parameters.
+    pub stderr: BTreeMap<String, f64>,
+    /// Constraints applied.
+    pub constraints: Vec<String>,
+    /// Free parameters that ended at a physical bound: the data do not constrain them there.
+    pub at_bound: Vec<String>,
+    /// RMS misfit (unweighted) over the used samples.
+    pub rms: f64,
+    /// Samples used.
+    pub n: usize,
+    /// Number of free parameters.
+    pub n_free: usize,
+    /// Gaussian log-likelihood at the optimum, σ estimated, of the weighted model (noise σ/w_r
+    /// at sample r; the usual one for uniform weights).
+    pub log_likelihood: f64,
+    /// Akaike information criterion (free parameters + σ).
+    pub aic: f64,
+    /// Bayesian information criterion.
+    pub bic: f64,
+    /// Segment table.
+    pub segments: Vec<SegmentRow>,
+    /// LM iterations of the best start.
+    pub iterations: usize,
+    /// Why LM stopped on the best start.
+    pub stop_reason: StopReason,
+    /// A budget that stopped the best start before it converged (absent when none did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub budget_hit: Option<BudgetHit>,
+    /// Integrator steps of all the fit's forward solves (the work the budget counts).
+    pub steps: u64,
+    /// Starts tried.
+    pub starts: usize,
+    /// Loading used by the forward model.
+    pub loading: LoadingMode,
+    /// Weighting.
+    pub weighting: Weighting,
+    /// Times, data, model and residual of the used samples (for plots and diagnosis).
+    #[serde(skip)]
+    pub curve: Curve,
+    /// Free-parameter names in fit order, transformed scale (`ln` for log-fitted).
+    #[serde(skip)]
+    pub theta: Vec<f64>,
+    /// Covariance of θ.
+    #[serde(skip)]
+    pub cov_theta: Vec<f64>,
+}
+
+/// Samples used by a fit with data and model.
+#[derive(Clone, Debug, Default)]
+pub struct Curve {
+    /// Time, s.
+    pub time: Vec<f64>,
+    /// Load point, µm.
+    pub load_point: Vec<f64>,
+    /// Measured friction.
+    pub data: Vec<f64>,
+    /// Model friction.
+    pub model: Vec<f64>,
+    /// Segment index (0-based) of each sample.
+    pub segment: Vec<usize>,
+    /// Model slip rate V at each sample, µm/s (empty if the extra forward solve failed).
+    pub slip_rate: Vec<f64>,
+}

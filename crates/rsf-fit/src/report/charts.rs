@@ -1,0 +1,198 @@
+//! The SVG charts of fits and diagnoses, on [`rsf_plot`].
+
+use super::words::{cause_words, law_words, param_rows};
+use crate::diagnose::Diagnosis;
+use crate::fit::{Curve, FitResult};
+use rsf_plot::{
+    BLACK, GREY, LegendPosition, PALETTE, Panel, PlotError, RGBColor, Series, fmt_num, render, render_stack,
+};
+
+const BASELINE: RGBColor = PALETTE[0];
+const EXTENDED: RGBColor = PALETTE[1];
+const LOAD_POINT: &str = "load-point displacement (µm)";
+
+/// At most `max` sample indices of `n`, evenly strided (a figure needs no more).
+fn thin(n: usize, max: usize) -> Vec<usize> {
+    (0..n).step_by(n.div_ceil(max.max(1)).max(1)).collect()
+}
+
+/// Load-point spans of every other segment of a curve (segments 2, 4, …), to shade.
+fn bands(c: &Curve) -> Vec<(f64, f64)> {
+    let n = c.segment.iter().max().map_or(0, |m| m + 1);
+    let mut span = vec![(f64::INFINITY, f64::NEG_INFINITY); n];
+    for (&s, &x) in c.segment.iter().zip(&c.load_point) {
+        span[s] = (span[s].0.min(x), span[s].1.max(x));
+    }
+    span.into_iter().enumerate().filter(|(s, b)| s % 2 == 1 && b.0 < b.1).map(|(_, b)| b).collect()
+}
+
+/// The model of a curve as lines, one per segment so that gaps are not bridged; labelled once.
+fn model_lines(c: &Curve, idx: &[usize], label: &str, color: RGBColor) -> Vec<Series> {
+    let mut out: Vec<Series> = Vec::new();
+    let mut cur: Vec<(f64, f64)> = Vec::new();
+    let mut seg = None;
+    for &i in idx.iter().filter(|&&i| i < c.model.len() && i < c.segment.len()) {
+        if seg.is_some_and(|s| s != c.segment[i]) && !cur.is_empty() {
+            out.push(Series::line(None, std::mem::take(&mut cur), color));
+        }
+        seg = Some(c.segment[i]);
+        cur.push((c.load_point[i], c.model[i]));
+    }
+    if !cur.is_empty() {
+        out.push(Series::line(None, cur, color));
+    }
+    if let Some(first) = out.first_mut() {
+        first.label = Some(label.to_string());
+    }
+    out
+}
+
+fn residuals(c: &Curve, idx: &[usize]) -> Vec<(f64, f64)> {
+    idx.iter().filter(|&&i| i < c.model.len()).map(|&i| (c.load_point[i], c.data[i] - c.model[i])).collect()
+}
+
+/// The parameters of a fit for a chart title, with ± where fitted: `a = 0.0104 ± 0.0002,
+/// b = 0.00965 ± 0.00012, Dc = 12.3 ± 0.4 µm` (the subscript 1 dropped for one state).
+pub fn fit_title(r: &FitResult) -> String {
+    let one = r.params.b.len() == 1;
+    param_rows(r)
+        .into_iter()
+        .filter(|(n, _, _)| n != "μ₀" && n != "k" && n != "g")
+        .map(|(n, v, _)| format!("{} = {v}", if one { n.trim_end_matches('₁').to_string() } else { n }))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// k and g of a fit for a chart title, `(fixed)` when not fitted.
+fn machine_title(r: &FitResult) -> String {
+    param_rows(r)
+        .into_iter()
+        .filter(|(n, _, _)| n == "k" || n == "g")
+        .map(|(n, v, fitted)| format!("{n} = {v}{}", if fitted { "" } else { " (fixed)" }))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `rsf fit --plot`: data, model and residuals of a fit against load-point displacement, the
+/// parameters (± standard error) in the titles, every other segment shaded.
+pub fn fit_svg(r: &FitResult, name: &str) -> Result<String, PlotError> {
+    let c = &r.curve;
+    let idx = thin(c.time.len(), 4000);
+    let bands = bands(c);
+    let mut top = Panel::new(fit_title(r), LOAD_POINT, "friction μ").legend(LegendPosition::UpperLeft);
+    top.bands = bands.clone();
+    top = top.with(Series::dots("data".to_string(), idx.iter().map(|&i| (c.load_point[i], c.data[i])).collect(), GREY));
+    for s in model_lines(c, &idx, "model", EXTENDED) {
+        top = top.with(s);
+    }
+    let mut bottom =
+        Panel::new(format!("residuals; {}", machine_title(r)), LOAD_POINT, "residual (data − model)").zero_line();
+    bottom.bands = bands;
+    bottom = bottom.with(Series::dots(None, residuals(c, &idx), BASELINE));
+    let title =
+        format!("{name} — {} law, rms {} over {} samples", law_words(&r.params.laws.join("+")), fmt_num(r.rms, 3), r.n);
+    render_stack(&title, &[(top, 440), (bottom, 270)], 1000)
+}
+
+/// Data with the baseline and the extended model, and both residuals, against load point; the
+/// held-out split dashed.
+pub fn models_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let b = &d.baseline.curve;
+    let ext = d.extended.as_ref().map(|e| &e.curve).filter(|e| e.time.len() == b.time.len());
+    let idx = thin(b.time.len(), 3000);
+    let bands = bands(b);
+    let ext_label = format!("with {}", cause_words(&d.cause.to_string()));
+    let mut top = Panel::new("", LOAD_POINT, "friction μ").legend(LegendPosition::UpperLeft);
+    top.bands = bands.clone();
+    top = top.with(Series::dots("data".to_string(), idx.iter().map(|&i| (b.load_point[i], b.data[i])).collect(), GREY));
+    top.series.extend(model_lines(b, &idx, "baseline", BASELINE));
+    if let Some(e) = ext {
+        top.series.extend(model_lines(e, &idx, &ext_label, EXTENDED));
+    }
+    let mut bottom =
+        Panel::new("", LOAD_POINT, "residual (data − model)").zero_line().legend(LegendPosition::UpperLeft);
+    bottom.bands = bands;
+    bottom = bottom.with(Series::dots("baseline".to_string(), residuals(b, &idx), BASELINE));
+    if let Some(e) = ext {
+        bottom = bottom.with(Series::dots(ext_label, residuals(e, &idx), EXTENDED));
+    }
+    // the held-out split, at the load point of the first sample after it
+    if let Some(i) = b.time.iter().position(|&t| t >= d.heldout_split_t).filter(|&i| i > 0) {
+        let x = b.load_point[i];
+        for p in [&mut top, &mut bottom] {
+            let (lo, hi) = rsf_plot::chart::padded(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)), false);
+            p.y_range = Some((lo, hi));
+            p.series.push(Series::dashed(None, vec![(x, lo), (x, hi)], BLACK));
+        }
+    }
+    render_stack("", &[(top, 430), (bottom, 290)], 980)
+}
+
+/// Residual rms per segment, and residuals against the model slip rate (log axis).
+pub fn residuals_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let b = &d.baseline.curve;
+    let ext = d.extended.as_ref().map(|e| &e.curve).filter(|e| e.time.len() == b.time.len());
+    let ext_label = format!("with {}", cause_words(&d.cause.to_string()));
+    let seg_rms = |c: &Curve| -> Vec<(f64, f64)> {
+        let n = c.segment.iter().max().map_or(0, |m| m + 1);
+        let mut acc = vec![(0.0, 0usize); n];
+        for (k, &s) in c.segment.iter().enumerate() {
+            acc[s].0 += (c.data[k] - c.model[k]).powi(2);
+            acc[s].1 += 1;
+        }
+        acc.iter()
+            .enumerate()
+            .filter(|(_, a)| a.1 > 0)
+            .map(|(i, a)| ((i + 1) as f64, (a.0 / a.1 as f64).sqrt()))
+            .collect()
+    };
+    let idx = thin(b.time.len(), 3000);
+    let vs_v = |c: &Curve| -> Vec<(f64, f64)> {
+        if c.slip_rate.len() != c.data.len() {
+            return vec![];
+        }
+        idx.iter().filter(|&&i| c.slip_rate[i] > 0.0).map(|&i| (c.slip_rate[i], c.data[i] - c.model[i])).collect()
+    };
+    let mut per_seg = Panel::new("rms misfit per segment", "segment", "rms residual").legend(LegendPosition::UpperLeft);
+    per_seg = per_seg.with(Series::points("baseline".to_string(), seg_rms(b), BASELINE));
+    let mut per_v = Panel::new("residuals against slip rate", "model slip rate V (µm/s)", "residual (data − model)")
+        .log_x()
+        .zero_line()
+        .legend(LegendPosition::UpperLeft);
+    per_v = per_v.with(Series::dots("baseline".to_string(), vs_v(b), BASELINE));
+    if let Some(e) = ext {
+        per_seg = per_seg.with(Series::points(ext_label.clone(), seg_rms(e), EXTENDED));
+        per_v = per_v.with(Series::dots(ext_label, vs_v(e), EXTENDED));
+    }
+    render("", &[per_seg, per_v], 2, (490, 360))
+}
+
+/// Per-event Dc against step size and against hold duration, with one-standard-error bars.
+/// Empty when there were no per-event refits.
+pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let steps: Vec<_> =
+        d.per_segment.iter().filter(|e| e.hold_s.is_none() && e.v_before > 0.0 && e.v_after > 0.0).collect();
+    let holds: Vec<_> = d.per_segment.iter().filter(|e| e.hold_s.is_some_and(|h| h > 0.0)).collect();
+    let mut panels = Vec::new();
+    if !steps.is_empty() {
+        let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc)).collect();
+        let err = steps.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
+        panels.push(
+            Panel::new("Dc refitted step by step", "step size log10(V after / V before)", "Dc (µm)")
+                .with(Series::points(None, pts, BASELINE).y_err(err)),
+        );
+    }
+    if !holds.is_empty() {
+        let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(f64::NAN), e.dc)).collect();
+        let err = holds.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
+        panels.push(
+            Panel::new("Dc refitted hold by hold", "hold duration (s)", "Dc (µm)")
+                .log_x()
+                .with(Series::points(None, pts, EXTENDED).y_err(err)),
+        );
+    }
+    if panels.is_empty() {
+        return Ok(String::new());
+    }
+    render("", &panels, 2, (490, 340))
+}

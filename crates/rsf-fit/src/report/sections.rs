@@ -1,0 +1,327 @@
+//! The sections of the diagnosis page, one function each, in page order.
+
+use super::words::{cause_words, effect_value, heldout_words, law_words, param_meta, param_rows};
+use super::{chart, charts, effect_summary, esc, table, verdict};
+use crate::diagnose::{DECISIVE, Diagnosis};
+use crate::fit::FitResult;
+use rsf_plot::{fmt_num, fmt_value, fmt_with_err};
+
+/// `ΔBIC` as it is shown in tables: one decimal below 1000 in magnitude, else 4 digits.
+fn score(x: f64) -> String {
+    if x.is_finite() && x.abs() < 1000.0 { format!("{x:.1}").replacen('-', "−", 1) } else { fmt_num(x, 4) }
+}
+
+/// The title.
+pub(super) fn header(_d: &Diagnosis, name: &str) -> String {
+    format!("<h1>rsf diagnose: {}</h1>\n", esc(name))
+}
+
+/// The verdict paragraph, then what was diagnosed and the engine's own reason.
+pub(super) fn verdict_section(d: &Diagnosis) -> String {
+    let cause = d.cause.to_string();
+    let b = &d.baseline;
+    let class = if cause == "none" { "verdict none" } else { "verdict" };
+    let loading = format!("{:?}", b.loading).to_lowercase();
+    format!(
+        "<p class=\"{class}\">{}</p>\n<p class=\"sub\">Cause: <b>{}</b> · baseline: {} law, one state variable, k = {} \
+         (nominal) · {} samples in {} segments · loading by {loading}. Decision: {}</p>\n",
+        verdict(d),
+        esc(&cause),
+        esc(&law_words(b.params.laws.first().map(String::as_str).unwrap_or(""))),
+        esc(&fmt_value(b.params.k, "/µm")),
+        b.n,
+        b.segments.len(),
+        esc(&d.reason)
+    )
+}
+
+/// The gain of the extension (and of a second cause on top of it).
+pub(super) fn gain(d: &Diagnosis) -> String {
+    let Some(g) = &d.gain else {
+        return "<h2>Gain</h2><p>No extension is decisive: the baseline stands (see the candidates below).</p>\n"
+            .into();
+    };
+    let ext_rms = d.extended.as_ref().map(|e| e.rms).unwrap_or(d.baseline.rms * g.rms_ratio);
+    let mut rows = vec![(
+        "chosen".to_string(),
+        vec![
+            format!("<l>{}", esc(&cause_words(&d.cause.to_string()))),
+            score(g.delta_bic),
+            score(g.delta_aic),
+            format!("{} → {}", fmt_num(d.baseline.rms, 3), fmt_num(ext_rms, 3)),
+            fmt_num(g.rms_ratio, 4),
+            heldout_words(g.heldout_rms_before, g.heldout_rms_after).unwrap_or_else(|| "–".into()),
+        ],
+    )];
+    if let Some(s) = &d.secondary {
+        rows.push((
+            "second".into(),
+            vec![
+                format!("<l>+ {} (against the first extension)", esc(&cause_words(&s.cause.to_string()))),
+                score(s.delta_bic),
+                "–".into(),
+                format!("{} → {}", fmt_num(ext_rms, 3), fmt_num(s.fit.rms, 3)),
+                fmt_num(s.rms_ratio, 4),
+                heldout_words(s.heldout_rms_before, s.heldout_rms_after).unwrap_or_else(|| "–".into()),
+            ],
+        ));
+    }
+    let head = [
+        "<l>extension",
+        "ΔBIC<sub>eff</sub>",
+        "ΔAIC<sub>eff</sub>",
+        "rms before → after",
+        "rms ratio",
+        "held-out rms before → after",
+    ];
+    format!(
+        "<h2>Gain</h2>{}<p class=\"note\">ΔBIC and ΔAIC use the effective number of independent samples \
+         (n<sub>eff</sub> = {} of {}); below {} is decisive. The held-out test fits the record before t = {} s and \
+         predicts the rest.</p>\n",
+        table("", &head, &rows),
+        fmt_num(d.evidence.n_effective.round(), 6),
+        d.baseline.n,
+        score(DECISIVE),
+        fmt_num(d.heldout_split_t, 4)
+    )
+}
+
+/// The effect's parameters: name, value with unit and uncertainty, meaning.
+pub(super) fn effect(d: &Diagnosis) -> String {
+    let mut rows = Vec::new();
+    let mut add =
+        |class: &str, effect: &std::collections::BTreeMap<String, serde_json::Value>, f: Option<&FitResult>| {
+            for (k, v) in effect {
+                let (name, _, meaning) = param_meta(k);
+                rows.push((
+                    class.to_string(),
+                    vec![format!("<l>{}", esc(&name)), esc(&effect_value(k, v, f)), format!("<l>{}", esc(meaning))],
+                ));
+            }
+        };
+    add("", &d.effect, d.extended.as_ref());
+    if let Some(s) = &d.secondary {
+        add("second", &s.effect, Some(&s.fit));
+    }
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!(
+        "<h2>Effect</h2>{}<p class=\"note\">± one standard error from the covariance of the extended fit{}.</p>\n",
+        table("", &["<l>parameter", "value", "<l>meaning"], &rows),
+        if d.secondary.is_some() { " (green: the second cause, from the combined fit)" } else { "" }
+    )
+}
+
+/// Fitted parameters of the baseline, the extended and the combined model side by side.
+pub(super) fn parameters(d: &Diagnosis) -> String {
+    let mut fits: Vec<(String, &FitResult)> = vec![("baseline".into(), &d.baseline)];
+    if let Some(e) = &d.extended {
+        fits.push((format!("with {}", cause_words(&d.cause.to_string())), e));
+    }
+    if let Some(s) = &d.secondary {
+        fits.push((format!("and {}", cause_words(&s.cause.to_string())), &s.fit));
+    }
+    let rows_of: Vec<Vec<(String, String, bool)>> = fits.iter().map(|(_, f)| param_rows(f)).collect();
+    // row order: the longest list's, then any names only the others have
+    let mut names: Vec<String> = Vec::new();
+    let mut by_len: Vec<&Vec<(String, String, bool)>> = rows_of.iter().collect();
+    by_len.sort_by_key(|r| std::cmp::Reverse(r.len()));
+    for r in by_len {
+        for (n, _, _) in r {
+            if !names.contains(n) {
+                names.push(n.clone());
+            }
+        }
+    }
+    let mut rows: Vec<(String, Vec<String>)> = names
+        .iter()
+        .map(|n| {
+            let mut cells = vec![format!("<l>{}", esc(n))];
+            for r in &rows_of {
+                cells.push(match r.iter().find(|x| &x.0 == n) {
+                    Some((_, v, true)) => esc(v),
+                    Some((_, v, false)) => format!("{} (fixed)", esc(v)),
+                    None => "–".into(),
+                });
+            }
+            (String::new(), cells)
+        })
+        .collect();
+    let mut extra = |label: &str, f: &dyn Fn(&FitResult) -> String| {
+        let mut cells = vec![format!("<l>{label}")];
+        cells.extend(fits.iter().map(|(_, x)| f(x)));
+        rows.push((String::new(), cells));
+    };
+    extra("laws", &|f| esc(&law_words(&f.params.laws.join("+"))));
+    extra("rms misfit", &|f| fmt_num(f.rms, 3));
+    extra("free parameters", &|f| f.n_free.to_string());
+    let mut head = vec!["<l>parameter".to_string()];
+    head.extend(fits.iter().map(|(h, _)| esc(h)));
+    let head: Vec<&str> = head.iter().map(String::as_str).collect();
+    format!(
+        "<h2>Fitted parameters</h2>{}<p class=\"note\">μ₀ at the reference rate V₀ = {}; ± one standard error.</p>\n",
+        table("", &head, &rows),
+        esc(&fmt_value(d.baseline.params.v0, "µm/s"))
+    )
+}
+
+/// Data, baseline and extended model, residuals, against load point.
+pub(super) fn models(d: &Diagnosis) -> String {
+    let ext = if d.extended.is_some() {
+        format!(", red the model with {}", esc(&cause_words(&d.cause.to_string())))
+    } else {
+        String::new()
+    };
+    format!(
+        "<h2>Data, models and residuals</h2><p class=\"note\">Grey: data; blue: the baseline{ext}. Shaded: every \
+         other segment of the protocol. Dashed: the held-out split (t = {} s): the held-out fits saw only the \
+         record before it.</p>{}\n",
+        fmt_num(d.heldout_split_t, 4),
+        chart(charts::models_svg(d))
+    )
+}
+
+/// Residual rms per segment and residuals against slip rate.
+pub(super) fn residuals(d: &Diagnosis) -> String {
+    format!("<h2>Where the residuals are</h2>{}\n", chart(charts::residuals_svg(d)))
+}
+
+/// Per-event refits: Dc against step size and hold, and their table.
+pub(super) fn events(d: &Diagnosis) -> String {
+    if d.per_segment.is_empty() {
+        return String::new();
+    }
+    let rows: Vec<(String, Vec<String>)> = d
+        .per_segment
+        .iter()
+        .map(|e| {
+            (
+                String::new(),
+                vec![
+                    format!("<l>{}", esc(&e.event)),
+                    fmt_num(e.t, 5),
+                    format!("{} → {}", fmt_num(e.v_before, 3), fmt_num(e.v_after, 3)),
+                    e.hold_s.map_or("–".into(), |h| fmt_num(h, 4)),
+                    fmt_num(e.a, 3),
+                    fmt_num(e.b, 3),
+                    esc(&fmt_with_err(e.dc, e.dc * e.ln_dc_stderr, "")),
+                    fmt_num(e.rms, 3),
+                ],
+            )
+        })
+        .collect();
+    let head = ["<l>event", "t (s)", "V before → after (µm/s)", "hold (s)", "a", "b", "Dc (µm)", "rms"];
+    let chi2 = d
+        .evidence
+        .dc_consistency_chi2
+        .map_or(String::new(), |c| format!(" Here the spread of ln Dc about its mean is χ²/dof = {}.", fmt_num(c, 3)));
+    format!(
+        "<h2>Each step and hold refitted alone</h2><p class=\"note\">One law with one Dc should serve every event; \
+         Dc that drifts with step size or hold duration points at the evolution law.{chi2}</p>{}{}\n",
+        chart(charts::events_svg(d)),
+        table("", &head, &rows)
+    )
+}
+
+/// Every candidate extension and its score.
+pub(super) fn candidates(d: &Diagnosis) -> String {
+    let chosen = d.cause.to_string();
+    let rows: Vec<(String, Vec<String>)> = d
+        .candidates
+        .iter()
+        .map(|c| {
+            let cause = c.cause.to_string();
+            let class = if cause == chosen { "chosen" } else { "" };
+            let bic =
+                if c.delta_bic < DECISIVE { format!("<b>{}</b>", score(c.delta_bic)) } else { score(c.delta_bic) };
+            (
+                class.to_string(),
+                vec![
+                    format!("<l>{}", esc(&cause_words(&cause))),
+                    format!("<l>{}", esc(&c.extension)),
+                    bic,
+                    score(c.delta_aic),
+                    fmt_num(c.rms_ratio, 4),
+                    c.heldout_rms_before.map_or("–".into(), |x| fmt_num(x, 3)),
+                    c.heldout_rms_after.map_or("–".into(), |x| fmt_num(x, 3)),
+                    format!("<l>{}", if c.at_bound.is_empty() { "–".into() } else { esc(&c.at_bound.join(", ")) }),
+                    format!("<l>{}", effect_summary(&c.effect)),
+                ],
+            )
+        })
+        .collect();
+    let head = [
+        "<l>cause",
+        "<l>extension",
+        "ΔBIC<sub>eff</sub>",
+        "ΔAIC<sub>eff</sub>",
+        "rms ratio",
+        "held-out rms, baseline",
+        "held-out rms, extended",
+        "<l>at bound",
+        "<l>effect",
+    ];
+    format!(
+        "<h2>Candidates</h2><p class=\"note\">Each extension fitted from the baseline optimum. Bold: decisive \
+         (ΔBIC<sub>eff</sub> &lt; {}); shaded: the one named. A candidate is named only if it is also credible: \
+         held-out rms at most 5 % worse than the baseline's and no parameter run to a bound.</p>{}\n",
+        score(DECISIVE),
+        table("wide", &head, &rows)
+    )
+}
+
+/// The numbers read from the baseline residuals.
+pub(super) fn evidence(d: &Diagnosis) -> String {
+    let e = &d.evidence;
+    let opt = |x: Option<f64>, sig: usize| x.map_or("–".to_string(), |v| fmt_num(v, sig));
+    let with_t = |x: Option<f64>, t: Option<f64>, unit: &str| match (x, t) {
+        (Some(x), Some(t)) => format!("{} (t = {})", esc(&fmt_value(x, unit)), fmt_num(t, 2)),
+        (Some(x), None) => esc(&fmt_value(x, unit)),
+        _ => "–".into(),
+    };
+    let rows: Vec<(&str, String, &str)> = vec![
+        (
+            "residual lag-one correlation ρ",
+            fmt_num(e.residual_lag1, 3),
+            "near 1: residuals vary slowly (misfit structure or correlated noise)",
+        ),
+        (
+            "effective independent samples n<sub>eff</sub>",
+            format!("{} of {}", fmt_num(e.n_effective.round(), 6), d.baseline.n),
+            "n (1 − ρ)/(1 + ρ): what the scores count",
+        ),
+        (
+            "misfit / noise",
+            fmt_num(e.misfit_over_noise, 3),
+            "baseline rms over the noise from sample-to-sample differences",
+        ),
+        (
+            "residual trend with load point",
+            with_t(Some(e.residual_trend_per_um), Some(e.residual_trend_t), "/µm"),
+            "a slip trend shows here",
+        ),
+        ("worst / median segment rms", fmt_num(e.segment_rms_ratio, 3), "large: one part of the protocol is missed"),
+        (
+            "residual trend with ln V",
+            with_t(e.residual_vs_ln_v, e.residual_vs_ln_v_t, ""),
+            "healing too fast or slow at low slip rate",
+        ),
+        ("per-event Dc spread χ²/dof", opt(e.dc_consistency_chi2, 3), "≈ 1 when one Dc serves every step and hold"),
+        ("d ln Dc / d ln(step size)", opt(e.dc_vs_ln_step, 3), "≠ 0: the evolution law"),
+        ("d ln Dc / d ln(hold)", opt(e.dc_vs_ln_hold, 3), "≠ 0: the evolution law"),
+        (
+            "k from reloading slopes",
+            e.k_reload_slope.map_or("–".into(), |k| esc(&fmt_value(k, "/µm"))),
+            "against the nominal stiffness",
+        ),
+    ];
+    let rows: Vec<(String, Vec<String>)> = rows
+        .into_iter()
+        .map(|(a, b, c)| (String::new(), vec![format!("<l>{a}"), b, format!("<l>{}", esc(c))]))
+        .collect();
+    format!(
+        "<h2>Evidence from the baseline residuals</h2>{}\n",
+        table("", &["<l>quantity", "value", "<l>what it says"], &rows)
+    )
+}

@@ -1,0 +1,339 @@
+//! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
+
+use super::esc;
+use crate::diagnose::{DECISIVE, Diagnosis, Evidence};
+use crate::fit::FitResult;
+use rsf_plot::{fmt_num, fmt_value, fmt_with_err};
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+/// A cause in words, as the object of "the data need …" (by its snake_case name; a combination
+/// `a+b` joins its parts with "and").
+pub(crate) fn cause_words(cause: &str) -> String {
+    let one = |c: &str| match c {
+        "none" => "no extension".to_string(),
+        "evolution_law" => "a different evolution law".into(),
+        "second_state_variable" => "a second state variable".into(),
+        "cutoff_velocity" => "a cut-off velocity".into(),
+        "slip_trend" => "a slip trend".into(),
+        "stiffness" => "a different machine stiffness".into(),
+        other => other.replace('_', " "),
+    };
+    cause.split('+').map(one).collect::<Vec<_>>().join(" and ")
+}
+
+/// `slip` → `Slip`, `slip+aging` → `Slip + Aging`, `kato-tullis` → `Kato–Tullis`.
+pub(crate) fn law_words(law: &str) -> String {
+    let one = |l: &str| match l {
+        "kato-tullis" => "Kato–Tullis".to_string(),
+        "prz" => "PRZ".into(),
+        l => {
+            let mut c = l.chars();
+            c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
+        }
+    };
+    law.split('+').map(one).collect::<Vec<_>>().join(" + ")
+}
+
+/// `2` → `₂`.
+pub(crate) fn subscript(n: usize) -> String {
+    const D: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
+    n.to_string().chars().map(|c| D[c.to_digit(10).unwrap_or(0) as usize]).collect()
+}
+
+/// Name (with subscripts), unit and meaning of a fit or effect parameter.
+pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
+    let split = key.find(|c: char| c.is_ascii_digit()).map(|i| key.split_at(i));
+    let (base, idx) = match split {
+        Some((b, n)) => (b, n.parse::<usize>().ok()),
+        None => (key, None),
+    };
+    let sub = idx.map(subscript).unwrap_or_default();
+    match base {
+        "mu0" => ("μ₀".into(), "", "steady-state friction at the reference rate"),
+        "a" => ("a".into(), "", "direct effect"),
+        "b" => (
+            format!("b{sub}"),
+            "",
+            if idx == Some(2) { "evolution effect of the second state" } else { "evolution effect" },
+        ),
+        "dc" => (
+            format!("Dc{sub}"),
+            "µm",
+            if idx == Some(2) { "slip distance of the second state" } else { "slip distance" },
+        ),
+        "vc" => (format!("Vc{sub}"), "µm/s", "cut-off velocity: time-dependent healing only below it"),
+        "k" => ("k".into(), "/µm", "machine stiffness (friction per µm of load point)"),
+        "g" => ("g".into(), "/µm", "friction change per µm of slip"),
+        "law" => ("law".into(), "", "evolution law(s) of the extended model"),
+        "b_other_fraction" => ("share of b".into(), "", "share of the evolution effect carried by the other law"),
+        _ => (key.to_string(), "", ""),
+    }
+}
+
+/// The standard error of an effect parameter `key` = `value` in the fit `f`: by name, or for
+/// `b2`/`dc2`/`vc` the fitted state whose value it is.
+pub(crate) fn stderr_for(f: &FitResult, key: &str, value: f64) -> Option<f64> {
+    if let Some(s) = f.stderr.get(key) {
+        return Some(*s);
+    }
+    let same = |x: f64| (x - value).abs() <= 1e-12 * value.abs().max(1e-300);
+    let p = &f.params;
+    let name = match key {
+        "b2" => p.b.iter().position(|&x| same(x)).map(|i| format!("b{}", i + 1)),
+        "dc2" => p.dc.iter().position(|&x| same(x)).map(|i| format!("dc{}", i + 1)),
+        "vc" => p.law_params.iter().find(|(n, x)| n.starts_with("vc") && same(**x)).map(|(n, _)| n.clone()),
+        _ => None,
+    }?;
+    f.stderr.get(&name).copied()
+}
+
+/// An effect value, formatted with its unit and, from the fit `f`, its uncertainty.
+pub(crate) fn effect_value(key: &str, v: &Value, f: Option<&FitResult>) -> String {
+    let (_, unit, _) = param_meta(key);
+    match v {
+        Value::Number(n) => {
+            let x = n.as_f64().unwrap_or(f64::NAN);
+            let se = f.and_then(|f| stderr_for(f, key, x)).unwrap_or(f64::NAN);
+            fmt_with_err(x, se, unit)
+        }
+        Value::String(s) if key == "law" => law_words(s),
+        Value::String(s) => s.clone(),
+        Value::Null => "–".into(),
+        Value::Bool(b) => b.to_string(),
+        other => other.to_string().replace(['{', '}', '"'], ""),
+    }
+}
+
+/// An effect in one line: `b₂ = 0.00401, Dc₂ = 59.6 µm` (without uncertainties; escaped HTML).
+pub fn effect_summary(effect: &BTreeMap<String, Value>) -> String {
+    let parts: Vec<String> =
+        effect.iter().map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, None))).collect();
+    esc(&parts.join(", "))
+}
+
+/// The parameters of a fit as rows (name, value with unit and ± where fitted, fixed or not):
+/// μ₀, a, b and Dc per state, law parameters, k, and g when it was fitted or set.
+pub fn param_rows(f: &FitResult) -> Vec<(String, String, bool)> {
+    let p = &f.params;
+    let mut v: Vec<(String, f64)> = vec![("mu0".into(), p.mu0), ("a".into(), p.a)];
+    for (i, (b, dc)) in p.b.iter().zip(&p.dc).enumerate() {
+        v.push((format!("b{}", i + 1), *b));
+        v.push((format!("dc{}", i + 1), *dc));
+    }
+    v.extend(p.law_params.iter().map(|(k, x)| (k.clone(), *x)));
+    v.push(("k".into(), p.k));
+    if p.g != 0.0 || f.stderr.contains_key("g") {
+        v.push(("g".into(), p.g));
+    }
+    v.into_iter()
+        .map(|(k, x)| {
+            let (name, unit, _) = param_meta(&k);
+            match f.stderr.get(&k) {
+                Some(se) => (name, fmt_with_err(x, *se, unit), true),
+                None => (name, fmt_value(x, unit), false),
+            }
+        })
+        .collect()
+}
+
+/// A held-out comparison `before → after`, or empty.
+pub(crate) fn heldout_words(before: Option<f64>, after: Option<f64>) -> Option<String> {
+    Some(format!("{} → {}", fmt_num(before?, 3), fmt_num(after?, 3)))
+}
+
+/// What in the baseline residuals points at `cause`.
+fn because(cause: &str, d: &Diagnosis) -> String {
+    let e: &Evidence = &d.evidence;
+    let generic = format!(
+        "the baseline misfit is {}× the noise estimated from sample-to-sample differences, with residuals \
+         correlated from sample to sample (lag-one ρ = {})",
+        fmt_num(e.misfit_over_noise, 2),
+        fmt_num(e.residual_lag1, 2)
+    );
+    let ln_v = match (e.residual_vs_ln_v, e.residual_vs_ln_v_t) {
+        (Some(s), Some(t)) if t.abs() > 3.0 => Some(format!(
+            "the baseline residuals trend with the logarithm of slip rate ({} per e-fold of V, t = {})",
+            fmt_num(s, 2),
+            fmt_num(t, 2)
+        )),
+        _ => None,
+    };
+    let first = cause.split('+').next().unwrap_or(cause);
+    match first {
+        "evolution_law" => match e.dc_consistency_chi2 {
+            Some(chi2) if chi2 > 4.0 => {
+                let mut s = format!(
+                    "the steps and holds refitted one at a time need different Dc (spread χ²/dof = {}",
+                    fmt_num(chi2, 3)
+                );
+                if let Some(x) = e.dc_vs_ln_step.filter(|x| x.abs() > 0.05) {
+                    s += &format!("; ln Dc changes by {} per e-fold of step size", fmt_num(x, 2));
+                }
+                if let Some(x) = e.dc_vs_ln_hold.filter(|x| x.abs() > 0.05) {
+                    s += &format!("; by {} per e-fold of hold time", fmt_num(x, 2));
+                }
+                s + ")"
+            }
+            _ => ln_v.unwrap_or(generic),
+        },
+        "cutoff_velocity" => ln_v.unwrap_or(generic),
+        "slip_trend" if e.residual_trend_t.abs() > 2.0 => format!(
+            "the baseline residuals drift with load-point displacement ({} per µm, t = {})",
+            fmt_num(e.residual_trend_per_um, 2),
+            fmt_num(e.residual_trend_t, 2)
+        ),
+        "stiffness" => match e.k_reload_slope {
+            Some(k) => format!(
+                "the elastic reloading slopes give k ≈ {} against the nominal {}",
+                fmt_value(k, "/µm"),
+                fmt_value(d.baseline.params.k, "/µm")
+            ),
+            None => generic,
+        },
+        "second_state_variable" if e.segment_rms_ratio > 2.0 => format!(
+            "the baseline leaves slow transients: residuals correlated from sample to sample (lag-one ρ = {}) \
+             and the worst segment's misfit {}× the median segment's",
+            fmt_num(e.residual_lag1, 2),
+            fmt_num(e.segment_rms_ratio, 2)
+        ),
+        _ => generic,
+    }
+}
+
+/// What the data need, with the effect's numbers: "a second state variable (b₂ = …, Dc₂ = … µm)".
+fn need(d: &Diagnosis) -> String {
+    let cause = d.cause.to_string();
+    let f = d.extended.as_ref();
+    let val = |k: &str| d.effect.get(k).map(|v| effect_value(k, v, f));
+    let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
+    match cause.as_str() {
+        "evolution_law" => match (d.effect.get("law").and_then(Value::as_str), val("b_other_fraction")) {
+            (Some(l), Some(share)) if l.contains('+') => {
+                format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
+            }
+            (Some(l), _) => format!("the {} law instead of the {base_law} law", law_words(l)),
+            _ => cause_words(&cause),
+        },
+        "second_state_variable" => match (val("b2"), val("dc2")) {
+            (Some(b), Some(dc)) => format!("a second state variable (b₂ = {b}, Dc₂ = {dc})"),
+            _ => cause_words(&cause),
+        },
+        "cutoff_velocity" => match val("vc") {
+            Some(v) => format!("a cut-off velocity: the Kato–Tullis law with Vc = {v}"),
+            None => cause_words(&cause),
+        },
+        "slip_trend" => match val("g") {
+            Some(g) => format!("a slip trend in friction, g = {g}"),
+            None => cause_words(&cause),
+        },
+        "stiffness" => match val("k") {
+            Some(k) => {
+                format!(
+                    "a machine stiffness of k = {k} instead of the nominal {}",
+                    fmt_value(d.baseline.params.k, "/µm")
+                )
+            }
+            None => cause_words(&cause),
+        },
+        _ => cause_words(&cause),
+    }
+}
+
+/// The verdict in one paragraph of plain words (escaped HTML): what the data need and why,
+/// what it gains, and how sure the diagnosis is; or, for `none`, that the baseline stands and
+/// what came closest.
+pub fn verdict(d: &Diagnosis) -> String {
+    let cause = d.cause.to_string();
+    let n_eff = format!("n_eff = {} of {} samples", fmt_num(d.evidence.n_effective.round(), 6), d.baseline.n);
+    let laws: Vec<String> = d.baseline.params.laws.iter().map(|l| law_words(l)).collect();
+    let baseline = format!(
+        "baseline ({} law, {} state variable{})",
+        laws.join(" + "),
+        laws.len(),
+        if laws.len() == 1 { "" } else { "s" }
+    );
+    if cause == "none" || d.gain.is_none() {
+        let mut s = format!("The {baseline} explains the record; no extension earns its parameters");
+        let best = d.candidates.iter().min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+        match best {
+            Some(b) => {
+                s += &format!(
+                    ": best was {} with ΔBIC = {} (decisive needs < {}, with {n_eff})",
+                    b.extension,
+                    fmt_num(b.delta_bic, 3),
+                    fmt_num(DECISIVE, 3)
+                );
+                let set_aside: Vec<String> = d
+                    .candidates
+                    .iter()
+                    .filter(|c| c.delta_bic < DECISIVE)
+                    .map(|c| {
+                        let why = if !c.at_bound.is_empty() {
+                            format!("{} ran to a bound", c.at_bound.join(", "))
+                        } else if let (Some(b), Some(a)) = (c.heldout_rms_before, c.heldout_rms_after) {
+                            if a > 1.05 * b {
+                                format!(
+                                    "it predicts the held-out part worse ({})",
+                                    heldout_words(Some(b), Some(a)).unwrap_or_default()
+                                )
+                            } else {
+                                "it did not pass the credibility checks".into()
+                            }
+                        } else {
+                            "it did not pass the credibility checks".into()
+                        };
+                        format!("{} (ΔBIC = {}) was set aside because {why}", c.extension, fmt_num(c.delta_bic, 3))
+                    })
+                    .collect();
+                if !set_aside.is_empty() {
+                    s += &format!("; {}", set_aside.join("; "));
+                }
+            }
+            None => s += ": no candidate could be fitted",
+        }
+        return esc(&(s + "."));
+    }
+    let g = d.gain.as_ref().expect("checked above");
+    let rms_after = d.extended.as_ref().map(|e| e.rms).unwrap_or(d.baseline.rms * g.rms_ratio);
+    let mut s = format!(
+        "The data need {} because {}; it gains ΔBIC = {} (rms {} → {}",
+        need(d),
+        because(&cause, d),
+        fmt_num(g.delta_bic, 3),
+        fmt_num(d.baseline.rms, 3),
+        fmt_num(rms_after, 3)
+    );
+    s += &match heldout_words(g.heldout_rms_before, g.heldout_rms_after) {
+        Some(h) => format!(", held-out {h})"),
+        None => ", no held-out test)".into(),
+    };
+    let sure = if g.delta_bic < DECISIVE {
+        format!("decisive (ΔBIC < {} with {n_eff})", fmt_num(DECISIVE, 3))
+    } else {
+        format!("not decisive (ΔBIC ≥ {})", fmt_num(DECISIVE, 3))
+    };
+    s += &format!("; how sure: {sure}");
+    match &d.runner_up {
+        Some((c, dbic)) => {
+            let close =
+                if (dbic - g.delta_bic).abs() < 10.0 { " — close: the two are hard to tell apart" } else { "" };
+            s += &format!("; runner-up {} with ΔBIC = {}{close}", cause_words(&c.to_string()), fmt_num(*dbic, 3));
+        }
+        None => s += "; no runner-up",
+    }
+    s += ".";
+    if let Some(sec) = &d.secondary {
+        s += &format!(
+            " On top of it the data need {}: a further ΔBIC = {} ({}).",
+            cause_words(&sec.cause.to_string()),
+            fmt_num(sec.delta_bic, 3),
+            sec.effect
+                .iter()
+                .map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, Some(&sec.fit))))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    esc(&s)
+}
