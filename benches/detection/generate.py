@@ -183,10 +183,9 @@ def variable_grid(rng, segs, seg_t):
         for j, (d, v, kind) in enumerate(segs):
             t0, t1 = seg_t[j], seg_t[j + 1]
             tb = min(t1, t0 + burst) if j > 0 else t0
-            pieces += [np.arange(t0, tb, 0.01), np.arange(tb, t1, 1.0 / base[j])]
+            dtb = 1.0 / base[j]                               # no sample within half a step of a break
+            pieces += [np.arange(t0, tb - 0.005, 0.01), np.arange(tb, t1 - 0.5 * dtb, dtb)]
         ts = np.unique(np.concatenate(pieces))
-        keep = np.r_[True, np.diff(ts) > 1e-6]               # drop near-duplicates of breaks
-        ts = ts[keep & (ts <= seg_t[-1])]
         if len(ts) <= 24000:
             return ts
         base, burst = [r * 0.85 for r in base], max(3.0, burst * 0.9)
@@ -326,7 +325,7 @@ def make_record(spec, rng):
         info["t0_s"] = math.exp(rng.uniform(math.log(100), math.log(1e5))) if "nonzero_t0" in feats else 0.0
         v = np.exp(Y[:, 0])
         spring = np.abs(mu - mu[0] - p["k"] * (load_point(seg_t, seg_v, ts) - Y[:, -1])).max()
-        info["spring_check"] = float(spring)            # |mu - mu(0) - k (x_lp - delta)|, should be ~1e-9
+        info["spring_check"] = float(spring)            # |mu - mu(0) - k (x_lp - delta)|: ~1e-13 seen
         return dict(table=np.column_stack([ts + info["t0_s"], lp_n, mu_n]), effect=effect, truth=p,
                     k_nom=k_nom, sigma=sigma, label=label, info=info, vmin=float(v.min()),
                     vmax=float(v.max()), nfev=nfev, attempts=attempt + 1)

@@ -2,7 +2,7 @@
 # Renders diagnosis reports (HTML) and figures (SVG) to PNG in headless Chromium, to see them as
 # a reader's browser shows them: overflow, overlapping or duplicate tick labels, raw numbers.
 #
-#   bash docs/diagnose/screenshot.sh FILE.html|FILE.svg ...     # writes FILE.png next to each
+#   bash docs/diagnose/screenshot.sh FILE.html|FILE.svg ...     # writes FILE.html.png, FILE.svg.png
 #   OUT_DIR=/tmp/shots bash docs/diagnose/screenshot.sh ...      # or into OUT_DIR
 #   HEIGHT=5000 bash docs/diagnose/screenshot.sh report.html     # a taller page (default 3000 px)
 #
@@ -14,8 +14,7 @@ CHROME=${CHROME:-$(command -v chromium || command -v chromium-browser || command
 [ $# -gt 0 ] || { sed -n '2,10p' "$0" >&2; exit 2; }
 for f in "$@"; do
     abs=$(realpath "$f")
-    name=$(basename "${abs%.*}")
-    out=${OUT_DIR:-$(dirname "$abs")}/$name.png
+    out=${OUT_DIR:-$(dirname "$abs")}/$(basename "$abs").png
     mkdir -p "$(dirname "$out")"
     size="1100,${HEIGHT:-3000}"
     if [[ $abs == *.svg ]]; then

@@ -48,6 +48,10 @@ struct DataArgs {
     /// Use only rows with time <= this (s).
     #[arg(long)]
     t_max: Option<f64>,
+    /// Rows whose time repeats the previous row's: `error` (refuse the record) or `drop` (keep
+    /// the first of each run, report the count).
+    #[arg(long, default_value = "error")]
+    duplicate_times: String,
 }
 
 impl DataArgs {
@@ -66,8 +70,17 @@ impl DataArgs {
                 .with_context(|| format!("--time-unit `{}`: use s or ms", self.time_unit))?,
             t_min: self.t_min,
             t_max: self.t_max,
+            duplicate_times: match self.duplicate_times.as_str() {
+                "error" => rsf_fit::data::DuplicateTimes::Error,
+                "drop" => rsf_fit::data::DuplicateTimes::Drop,
+                other => anyhow::bail!("--duplicate-times `{other}`: use error or drop"),
+            },
         };
-        Ok(rsf_fit::data::read_record(path, &opts)?)
+        let rec = rsf_fit::data::read_record(path, &opts)?;
+        if rec.dropped_duplicate_times > 0 {
+            eprintln!("rsf: dropped {} rows whose time repeated the previous row's", rec.dropped_duplicate_times);
+        }
+        Ok(rec)
     }
 }
 

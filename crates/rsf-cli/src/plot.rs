@@ -2,7 +2,7 @@
 //! the diagnosis report are built by `rsf_fit::report`.
 
 use anyhow::{Result, anyhow};
-use rsf_plot::{GREY, LegendPosition, PALETTE, Panel, Series, render_stack};
+use rsf_plot::{GREY, PALETTE, Panel, Series, render_stack};
 use rsf_solvers::Solution;
 use std::path::Path;
 
@@ -10,7 +10,7 @@ use std::path::Path;
 /// With `measured` (friction at the solution's times), the data are drawn as grey points.
 pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: &str) -> Result<()> {
     let t = &sol.time;
-    let mut top = Panel::new("", "time (s)", "friction μ").legend(LegendPosition::UpperLeft);
+    let mut top = Panel::new("", "time (s)", "friction μ");
     if let Some(m) = measured.filter(|m| m.len() == sol.len()) {
         top = top.with(Series::dots("measured".to_string(), t.iter().copied().zip(m.iter().copied()).collect(), GREY));
     }

@@ -84,6 +84,8 @@ pub struct ReadOptions {
     pub t_min: Option<f64>,
     /// Keep rows with time ≤ this (s).
     pub t_max: Option<f64>,
+    /// Rows whose time repeats the previous row's.
+    pub duplicate_times: DuplicateTimes,
 }
 
 impl Default for ReadOptions {
@@ -99,6 +101,7 @@ impl Default for ReadOptions {
             time_unit: TimeUnit::S,
             t_min: None,
             t_max: None,
+            duplicate_times: DuplicateTimes::Error,
         }
     }
 }
@@ -114,6 +117,20 @@ pub struct Record {
     pub mu: Vec<f64>,
     /// Where it came from.
     pub source: String,
+    /// Rows dropped because their time repeated the previous row's
+    /// ([`DuplicateTimes::Drop`]).
+    pub dropped_duplicate_times: usize,
+}
+
+/// What to do with a row whose time equals the previous row's (loggers that write two rows
+/// per clock tick).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DuplicateTimes {
+    /// Refuse the record, naming the line (the default: a repeated time may mean a broken clock).
+    #[default]
+    Error,
+    /// Keep the first row of each run of equal times, drop the others and count them.
+    Drop,
 }
 
 impl Record {
@@ -134,8 +151,59 @@ impl Record {
             load_point: self.load_point[i0..i1].to_vec(),
             mu: self.mu[i0..i1].to_vec(),
             source: self.source.clone(),
+            dropped_duplicate_times: self.dropped_duplicate_times,
         }
     }
+
+    /// The record without the samples `drop` (sorted indices).
+    pub fn without(&self, drop: &[usize]) -> Record {
+        let keep =
+            |v: &[f64]| v.iter().enumerate().filter(|(i, _)| drop.binary_search(i).is_err()).map(|(_, x)| *x).collect();
+        Record {
+            time: keep(&self.time),
+            load_point: keep(&self.load_point),
+            mu: keep(&self.mu),
+            source: self.source.clone(),
+            dropped_duplicate_times: self.dropped_duplicate_times,
+        }
+    }
+}
+
+/// A spike's departure from the mean of its two neighbours must exceed this many of its own
+/// standard deviations (σ√1.5 for noise σ): Gaussian noise does so with probability 2·10⁻⁹ per
+/// sample (and must then also show the neighbours' signature), while a spike of height 10σ
+/// stands 8.2 of them out — electrical spikes in friction records are 10–20σ.
+pub const SPIKE_SIGMA: f64 = 6.0;
+
+/// Isolated single-sample spikes in `x` (sorted indices): samples that stand more than
+/// [`SPIKE_SIGMA`] noise σ off the mean of their neighbours, with both neighbours off the mean
+/// of theirs by a quarter to three quarters of that, in the opposite direction — the signature
+/// of one bad sample (a jump between two samples, such as a stick-slip drop or the onset of a
+/// velocity step, has a different one and is kept).
+pub fn isolated_spikes(x: &[f64]) -> Vec<usize> {
+    let n = x.len();
+    if n < 5 {
+        return vec![];
+    }
+    let mut d: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    d.sort_by(f64::total_cmp);
+    // σ of x from the median |Δx| (of a Gaussian with σ√2: 0.6745 σ√2)
+    let sigma = d[d.len() / 2] / (0.6745 * std::f64::consts::SQRT_2);
+    if !(sigma > 0.0) {
+        return vec![];
+    }
+    // r_i = x_i − (x_{i−1} + x_{i+1})/2 has standard deviation σ √1.5
+    let r = |i: usize| x[i] - 0.5 * (x[i - 1] + x[i + 1]);
+    let thr = SPIKE_SIGMA * sigma * 1.5f64.sqrt();
+    (2..n - 2)
+        .filter(|&i| {
+            let ri = r(i);
+            ri.abs() > thr
+                && [r(i - 1), r(i + 1)]
+                    .iter()
+                    .all(|&rn| rn * ri < 0.0 && (0.25..=0.75).contains(&(rn.abs() / ri.abs())))
+        })
+        .collect()
 }
 
 /// A data error naming file, line and column where known.
@@ -221,6 +289,11 @@ fn parse_lines(
         column: column.map(str::to_string),
         message,
     };
+    // a UTF-8 byte-order mark (Excel's default CSV) is not part of the first column's name
+    let lines = lines.map(|l| match l.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => l,
+    });
     let mut lines = lines.enumerate().filter(|(_, l)| {
         let t = l.trim_start();
         !t.is_empty() && !t.starts_with('#')
@@ -230,8 +303,11 @@ fn parse_lines(
     let mut first_seen: Option<String> = None;
     let mut header_line = String::new();
     for (ln, line) in lines.by_ref().take(200) {
+        // semicolons separate fields where the comma is the decimal mark (European locales)
         let delim = if line.contains('\t') {
             Some('\t')
+        } else if line.contains(';') {
+            Some(';')
         } else if line.contains(',') {
             Some(',')
         } else {
@@ -295,7 +371,17 @@ fn parse_lines(
     let mut offset: Option<usize> = None;
     let parse = |cells: &[&str], i: usize, col: &str, ln: usize| -> Result<f64, DataError> {
         let cell = cells.get(i).ok_or_else(|| err(Some(ln + 1), Some(col), "missing".into()))?;
-        let v: f64 = cell.parse().map_err(|_| err(Some(ln + 1), Some(col), format!("`{cell}` is not a number")))?;
+        // a decimal comma, where the comma does not separate fields
+        let v: f64 = cell
+            .parse::<f64>()
+            .or_else(|e| {
+                if delim != Some(',') && cell.matches(',').count() == 1 && !cell.contains('.') {
+                    cell.replace(',', ".").parse()
+                } else {
+                    Err(e)
+                }
+            })
+            .map_err(|_| err(Some(ln + 1), Some(col), format!("`{cell}` is not a number")))?;
         if !v.is_finite() {
             return Err(err(Some(ln + 1), Some(col), format!("{v} is not finite")));
         }
@@ -346,11 +432,23 @@ fn parse_lines(
             }
         };
         if let Some(&prev) = rec.time.last() {
+            if t == prev && opts.duplicate_times == DuplicateTimes::Drop {
+                rec.dropped_duplicate_times += 1;
+                continue;
+            }
             if !(t > prev) {
                 return Err(err(
                     Some(ln + 1),
                     Some(&opts.time_col),
-                    format!("time {} does not increase (previous {})", t / tf, prev / tf),
+                    if t == prev {
+                        format!(
+                            "time {} repeats the previous row's (use the option to drop duplicated times, \
+                             `--duplicate-times drop`, if the logger writes two rows per tick)",
+                            t / tf
+                        )
+                    } else {
+                        format!("time {} does not increase (previous {})", t / tf, prev / tf)
+                    },
                 ));
             }
         }
@@ -441,5 +539,39 @@ mod tests {
             let e = parse_record(&text, "f.csv", &o()).unwrap_err().to_string();
             assert!(e.contains(want), "`{e}` lacks `{want}`");
         }
+    }
+
+    /// Excel's CSV (a byte-order mark), European CSV (semicolons, decimal commas), and a logger
+    /// that writes two rows per clock tick (refused by default, dropped and counted on request).
+    #[test]
+    fn lab_exports_bom_semicolons_decimal_commas_duplicate_times() {
+        let bom = "\u{feff}time_s,load_point_um,mu\n".to_string() + &rows(12);
+        assert_eq!(parse_record(&bom, "f", &o()).unwrap().len(), 12);
+        let mut eu = "\u{feff}time_s;load_point_um;mu\n".to_string();
+        for i in 0..12 {
+            eu += &format!("{},5;{},25;0,6{}\n", i, i, i % 10);
+        }
+        let r = parse_record(&eu, "f", &o()).unwrap();
+        assert_eq!(r.len(), 12);
+        assert_eq!((r.time[1], r.load_point[1], r.mu[3]), (1.5, 1.25, 0.63));
+        let mut dup = "time_s,load_point_um,mu\n".to_string() + &rows(12);
+        dup += &format!("{},99,0.7\n", 11.0 * 0.1);
+        let e = parse_record(&dup, "f", &o()).unwrap_err().to_string();
+        assert!(e.contains("repeats the previous row") && e.contains("f:14"), "{e}");
+        let r = parse_record(&dup, "f", &ReadOptions { duplicate_times: DuplicateTimes::Drop, ..o() }).unwrap();
+        assert_eq!((r.len(), r.dropped_duplicate_times), (12, 1));
+    }
+
+    /// Isolated spikes are found; a jump between two samples (a stick-slip drop) is not one.
+    #[test]
+    fn finds_isolated_spikes_but_not_jumps() {
+        let mut x: Vec<f64> =
+            (0..200).map(|i| 0.6 + 1e-4 * ((i as f64 * 12.9898).sin() * 43758.5453).fract()).collect();
+        x[50] += 0.01;
+        x[120] -= 0.008;
+        for v in x.iter_mut().skip(160) {
+            *v -= 0.02;
+        }
+        assert_eq!(isolated_spikes(&x), vec![50, 120]);
     }
 }

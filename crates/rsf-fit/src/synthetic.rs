@@ -56,7 +56,13 @@ pub fn record(
         };
         mu.push(sol.mu[r] + e);
     }
-    Ok(Record { time: sol.time, load_point: sol.load_point, mu, source: format!("synthetic (seed {seed})") })
+    Ok(Record {
+        time: sol.time,
+        load_point: sol.load_point,
+        mu,
+        source: format!("synthetic (seed {seed})"),
+        dropped_duplicate_times: 0,
+    })
 }
 
 /// A lab-like protocol for diagnosis tests and studies: steps 1 → 10 → 1 → 0.1 → 1 µm/s and

@@ -103,3 +103,19 @@ fn a_reconstruction_error_is_not_blamed_on_physics() {
     assert_eq!(d.loading, LoadingMode::Record);
     assert_eq!(d.cause, Cause::None, "{}", d.reason);
 }
+
+/// Isolated 10–20σ spikes (electrical glitches) are left out, counted, and never become a cause.
+#[test]
+fn spikes_never_become_a_cause() {
+    let m = base().with_state(StateVariable::new(Slip, 0.013, 8.0));
+    let mut rec = record(&m, 1.0, &short_protocol(), Noise { sigma: 2e-4, tau: 0.0 }, 41).unwrap();
+    let at = [150, 400, 700, 1000, 1500, 1900];
+    for (k, &i) in at.iter().enumerate() {
+        rec.mu[i] += if k % 2 == 0 { 1.0 } else { -1.0 } * (10.0 + 2.0 * k as f64) * 2e-4;
+    }
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let d = diagnose(&rec, &segs, &options(0.005, LoadingMode::Protocol)).unwrap();
+    let times: Vec<f64> = at.iter().map(|&i| rec.time[i]).collect();
+    assert_eq!(d.spikes_removed, times);
+    assert_eq!(d.cause, Cause::None, "{}", d.reason);
+}

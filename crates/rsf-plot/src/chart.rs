@@ -112,8 +112,10 @@ pub struct Panel {
     pub x_range: Option<(f64, f64)>,
     /// Fixed y range.
     pub y_range: Option<(f64, f64)>,
-    /// Legend position.
-    pub legend: LegendPosition,
+    /// Legend position (none: the corner that hides the fewest points).
+    pub legend: Option<LegendPosition>,
+    /// Label only whole numbers on the x axis (e.g. segment numbers).
+    pub integer_x: bool,
     /// Shaded x intervals behind the series (e.g. alternate segments of a record).
     pub bands: Vec<(f64, f64)>,
     /// A thin black line at y = 0.
@@ -123,7 +125,7 @@ pub struct Panel {
 }
 
 impl Panel {
-    /// A panel with linear axes, the legend upper right and no series yet.
+    /// A panel with linear axes, the legend where it hides the fewest points, no series yet.
     pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
         Self {
             title: title.into(),
@@ -133,7 +135,8 @@ impl Panel {
             log_y: false,
             x_range: None,
             y_range: None,
-            legend: LegendPosition::UpperRight,
+            legend: None,
+            integer_x: false,
             bands: Vec::new(),
             zero_line: false,
             series: Vec::new(),
@@ -161,7 +164,12 @@ impl Panel {
     }
     /// Legend position.
     pub fn legend(mut self, at: LegendPosition) -> Self {
-        self.legend = at;
+        self.legend = Some(at);
+        self
+    }
+    /// Label only whole numbers on the x axis.
+    pub fn integer_x(mut self) -> Self {
+        self.integer_x = true;
         self
     }
     /// A shaded x interval.
@@ -312,20 +320,22 @@ pub struct AxisLabels {
     pub exp: i32,
     /// Decimals of the scaled labels.
     pub decimals: usize,
+    /// Only whole numbers are labelled.
+    pub integer: bool,
 }
 
 impl AxisLabels {
     /// The labelling of an axis over `lo..hi` with plotters' ticks for at most `n` labels.
     pub fn new(lo: f64, hi: f64, log: bool, n: usize) -> Self {
         if log {
-            return Self { log, exp: 0, decimals: 0 };
+            return Self { log, exp: 0, decimals: 0, integer: false };
         }
         let m = lo.abs().max(hi.abs());
         let e = if m > 0.0 { m.log10().floor() as i32 } else { 0 };
         let exp = if e < -2 || e >= 5 { e } else { 0 };
         let s = 10f64.powi(exp);
         let ticks: Vec<f64> = RangedCoordf64::from(lo..hi).key_points(n).iter().map(|t| t / s).collect();
-        Self { log, exp, decimals: tick_decimals(&ticks) }
+        Self { log, exp, decimals: tick_decimals(&ticks), integer: false }
     }
     /// The label of the tick at `v`.
     pub fn label(&self, v: f64) -> String {
@@ -338,6 +348,13 @@ impl AxisLabels {
                 0 => "1".into(),
                 1 => "10".into(),
                 e => format!("10{}", superscript(e)),
+            };
+        }
+        if self.integer {
+            return if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) {
+                format!("{}", v.round() as i64)
+            } else {
+                String::new()
             };
         }
         let d = self.decimals;
@@ -380,7 +397,7 @@ where
     }
     let mut c = b.margin(12).x_label_area_size(42).y_label_area_size(72).build_cartesian_2d(x, y).map_err(err)?;
     let (xr, yr) = (c.x_range(), c.y_range());
-    let lx = AxisLabels::new(xr.start, xr.end, p.log_x, N_LABELS);
+    let lx = AxisLabels { integer: p.integer_x && !p.log_x, ..AxisLabels::new(xr.start, xr.end, p.log_x, N_LABELS) };
     let ly = AxisLabels::new(yr.start, yr.end, p.log_y, N_LABELS);
     let (x_desc, y_desc) = (lx.desc(&p.x_label), ly.desc(&p.y_label));
     c.configure_mesh()
@@ -450,7 +467,7 @@ where
     }
     if any_label {
         c.configure_series_labels()
-            .position(p.legend.clone())
+            .position(p.legend.clone().unwrap_or_else(|| legend_corner(p, (xr.start, xr.end), (yr.start, yr.end))))
             .label_font(("sans-serif", 12))
             .border_style(plotters::style::BLACK)
             .background_style(WHITE.mix(0.85))
@@ -458,6 +475,40 @@ where
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// The corner of the plot where the legend hides the fewest points: the legend box is taken as
+/// a share of the plot area that grows with the number and length of its entries.
+fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> LegendPosition {
+    let labels: Vec<&String> = p.series.iter().filter_map(|s| s.label.as_ref()).collect();
+    let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f64;
+    let w = (0.12 + 0.014 * longest).min(0.7);
+    let h = (0.06 + 0.055 * labels.len() as f64).min(0.7);
+    let unit = |v: f64, a: f64, b: f64, log: bool| {
+        if log { (v.max(1e-300).ln() - a.ln()) / (b.ln() - a.ln()) } else { (v - a) / (b - a) }
+    };
+    let corners = [
+        (LegendPosition::UpperRight, false, true),
+        (LegendPosition::UpperLeft, true, true),
+        (LegendPosition::LowerRight, false, false),
+        (LegendPosition::LowerLeft, true, false),
+    ];
+    let mut hidden = [0usize; 4];
+    for s in &p.series {
+        for &(x, y) in &s.points {
+            let (u, v) = (unit(x, x0, x1, p.log_x), unit(y, y0, y1, p.log_y));
+            if !(u.is_finite() && v.is_finite()) {
+                continue;
+            }
+            for (k, &(_, left, top)) in corners.iter().enumerate() {
+                let inx = if left { u < w } else { u > 1.0 - w };
+                let iny = if top { v > 1.0 - h } else { v < h };
+                hidden[k] += usize::from(inx && iny);
+            }
+        }
+    }
+    let best = (0..4).min_by_key(|&k| hidden[k]).unwrap_or(0);
+    corners[best].0.clone()
 }
 
 #[cfg(test)]
@@ -483,6 +534,17 @@ mod tests {
         let r = AxisLabels::new(-3e-4, 4e-4, false, N_LABELS);
         assert_eq!(r.desc("residual"), "residual (×10⁻⁴)");
         assert!(r.tick_labels(-3e-4, 4e-4, N_LABELS).contains(&"−2".to_string()));
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_data_are_not() {
+        let rising: Vec<(f64, f64)> = (0..100).map(|i| (i as f64, i as f64)).collect();
+        let p = Panel::new("", "x", "y").with(Series::dots("data".to_string(), rising, BLACK));
+        let (x, y) = (range(&p, true, false), range(&p, false, false));
+        assert!(matches!(legend_corner(&p, x, y), LegendPosition::UpperLeft));
+        let labels = AxisLabels { integer: true, ..AxisLabels::new(0.5, 3.5, false, N_LABELS) };
+        let l: Vec<String> = labels.tick_labels(0.5, 3.5, N_LABELS).into_iter().filter(|s| !s.is_empty()).collect();
+        assert_eq!(l, ["1", "2", "3"]);
     }
 
     #[test]

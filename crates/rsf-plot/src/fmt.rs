@@ -9,7 +9,7 @@
 //! * Tick labels of one axis share the number of decimals that keeps them exact and distinct
 //!   ([`tick_labels`]).
 //!
-//! Units are appended after a space (`µm`, `µm/s`, `/µm`, `s`); friction has none.
+//! Units are appended after a no-break space (`µm`, `µm/s`, `/µm`, `s`); friction has none.
 
 /// Significant digits of a value shown without an uncertainty.
 pub const SIG: usize = 4;
@@ -50,8 +50,9 @@ fn trim_zeros(s: String) -> String {
     if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
 }
 
+/// The value and its unit, joined by a no-break space (a table cell never wraps between them).
 fn with_unit(s: String, unit: &str) -> String {
-    if unit.is_empty() { s } else { format!("{s} {unit}") }
+    if unit.is_empty() { s } else { format!("{s}\u{a0}{unit}") }
 }
 
 /// `x` with `sig` significant digits, trailing zeros dropped: decimal between 10⁻³ and 10⁵,
@@ -105,6 +106,29 @@ pub fn fmt_with_err(x: f64, err: f64, unit: &str) -> String {
     }
 }
 
+/// A change `a → b` with `sig` significant digits, both in the same form (decimal, or both
+/// `m×10ⁿ` when either needs it), trailing zeros kept: `0.00110 → 0.000826` is
+/// `1.10×10⁻³ → 8.26×10⁻⁴`.
+pub fn fmt_pair(a: f64, b: f64, sig: usize) -> String {
+    let sig = sig.max(1);
+    let decimal = |x: f64| x == 0.0 || !x.is_finite() || (MIN_EXP..MAX_EXP).contains(&exponent(x, sig));
+    let one = |x: f64| {
+        if !x.is_finite() {
+            return "–".to_string();
+        }
+        if decimal(a) && decimal(b) {
+            let d = (sig as i32 - 1 - exponent(x, sig)).max(0) as usize;
+            tidy(format!("{x:.d$}"))
+        } else if x == 0.0 {
+            "0".into()
+        } else {
+            let e = exponent(x, sig);
+            tidy(format!("{:.*}×10{}", sig - 1, x / 10f64.powi(e), superscript(e)))
+        }
+    };
+    format!("{} → {}", one(a), one(b))
+}
+
 /// Decimal places at which evenly spaced ticks (as plotters places them: multiples of 1, 2 or
 /// 5 × 10ⁿ) print exactly and all distinct.
 pub fn tick_decimals(ticks: &[f64]) -> usize {
@@ -134,12 +158,12 @@ mod tests {
     fn values_read_well() {
         assert_eq!(fmt_value(0.00965, ""), "0.00965");
         assert_eq!(fmt_value(0.009650001, ""), "0.00965");
-        assert_eq!(fmt_value(8.123456, "µm"), "8.123 µm");
-        assert_eq!(fmt_value(3e-6, "/µm"), "3×10⁻⁶ /µm");
-        assert_eq!(fmt_value(2.833121483939129e-6, "/µm"), "2.833×10⁻⁶ /µm");
-        assert_eq!(fmt_value(0.0073043904924411174, "/µm"), "0.007304 /µm");
+        assert_eq!(fmt_value(8.123456, "µm"), "8.123\u{a0}µm");
+        assert_eq!(fmt_value(3e-6, "/µm"), "3×10⁻⁶\u{a0}/µm");
+        assert_eq!(fmt_value(2.833121483939129e-6, "/µm"), "2.833×10⁻⁶\u{a0}/µm");
+        assert_eq!(fmt_value(0.0073043904924411174, "/µm"), "0.007304\u{a0}/µm");
         assert_eq!(fmt_value(-1.5e-4, ""), "−1.5×10⁻⁴");
-        assert_eq!(fmt_value(123456.0, "s"), "1.235×10⁵ s");
+        assert_eq!(fmt_value(123456.0, "s"), "1.235×10⁵\u{a0}s");
         assert_eq!(fmt_value(0.0, ""), "0");
         assert_eq!(fmt_value(f64::NAN, "µm"), "–");
         // rounding that carries into the next power of ten
@@ -149,12 +173,19 @@ mod tests {
     #[test]
     fn values_with_errors_round_where_the_error_ends() {
         assert_eq!(fmt_with_err(0.009653, 0.000123, ""), "0.00965 ± 0.00012");
-        assert_eq!(fmt_with_err(12.34, 1.4, "µm"), "12.3 ± 1.4 µm");
-        assert_eq!(fmt_with_err(1234.0, 56.0, "s"), "1234 ± 56 s");
-        assert_eq!(fmt_with_err(2.8331e-6, 1.2e-8, "/µm"), "(2.833 ± 0.012)×10⁻⁶ /µm");
+        assert_eq!(fmt_with_err(12.34, 1.4, "µm"), "12.3 ± 1.4\u{a0}µm");
+        assert_eq!(fmt_with_err(1234.0, 56.0, "s"), "1234 ± 56\u{a0}s");
+        assert_eq!(fmt_with_err(2.8331e-6, 1.2e-8, "/µm"), "(2.833 ± 0.012)×10⁻⁶\u{a0}/µm");
         assert_eq!(fmt_with_err(-0.0021, 0.0004, ""), "−0.00210 ± 0.00040");
         assert_eq!(fmt_with_err(0.5, f64::NAN, ""), "0.5");
         assert_eq!(fmt_with_err(0.5, 0.0, ""), "0.5");
+    }
+
+    #[test]
+    fn changes_share_one_form() {
+        assert_eq!(fmt_pair(0.0011, 0.000826, 3), "1.10×10⁻³ → 8.26×10⁻⁴");
+        assert_eq!(fmt_pair(0.0104, 0.00968, 3), "0.0104 → 0.00968");
+        assert_eq!(fmt_pair(2.0, f64::NAN, 3), "2.00 → –");
     }
 
     #[test]

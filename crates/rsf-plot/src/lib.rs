@@ -9,7 +9,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`chart`] | [`Panel`], [`Series`], [`Style`], the palette, [`render`] (a grid of panels) and [`render_stack`] (panels of given heights, one above the other) |
-//! | [`fmt`] | numbers for people: [`fmt_value`], [`fmt_with_err`], tick labels that are always distinct |
+//! | [`fmt`] | numbers for people: [`fmt_value`], [`fmt_with_err`], [`fmt_pair`], tick labels that are always distinct |
 //!
 //! ```
 //! use rsf_plot::{Panel, Series, PALETTE, render};
@@ -27,4 +27,4 @@ pub use chart::{
     BLACK, GREY, LegendPosition, PALETTE, Panel, PlotError, RGBColor, Series, Style, lighter, ordered_color, render,
     render_stack,
 };
-pub use fmt::{fmt_num, fmt_value, fmt_with_err, superscript, tick_labels};
+pub use fmt::{fmt_num, fmt_pair, fmt_value, fmt_with_err, superscript, tick_labels};

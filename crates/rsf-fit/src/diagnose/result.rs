@@ -170,6 +170,9 @@ pub struct Diagnosis {
     /// used record loading).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reconstruction: Option<Reconstruction>,
+    /// Times (s) of isolated single-sample spikes left out of every fit
+    /// ([`crate::data::isolated_spikes`]).
+    pub spikes_removed: Vec<f64>,
     /// The loading the diagnosis used.
     pub loading: crate::fit::LoadingMode,
 }

@@ -10,7 +10,7 @@ use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, judge, worst_segment};
 use super::starts::{fit_from, slip_rate_range};
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Gain, Secondary};
-use crate::data::Record;
+use crate::data::{Record, isolated_spikes};
 use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
 use crate::segment::Segment;
 use std::collections::BTreeMap;
@@ -240,6 +240,19 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     if o.laws.len() != 1 {
         return Err(FitError::Setup("the baseline has one state variable".into()));
     }
+    // isolated spikes are bad samples, not friction: out before anything is fitted to them
+    let spikes = isolated_spikes(&rec.mu);
+    let clean = rec.without(&spikes);
+    let segs: Vec<Segment> = segs
+        .iter()
+        .map(|s| {
+            let i0 = clean.time.partition_point(|&t| t < rec.time[s.i0]);
+            let i1 = clean.time.partition_point(|&t| t <= rec.time[s.i1]).saturating_sub(1).max(i0);
+            Segment { i0, i1, ..s.clone() }
+        })
+        .collect();
+    let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
+    let (rec, segs) = (&clean, &segs[..]);
     let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
     let mut ev = evidence(&base);
     ev.k_reload_slope = reload_stiffness(&p);
@@ -350,6 +363,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         per_segment,
         heldout_split_t: ctx.t_split,
         reconstruction,
+        spikes_removed,
         loading: ctx.base_opts.loading,
         candidates: candidates.clone(),
         baseline: ctx.base,

@@ -35,6 +35,7 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
         load_point: record.load_point[i_start..].to_vec(),
         mu: record.mu[i_start..].to_vec(),
         source: record.source.clone(),
+        dropped_duplicate_times: record.dropped_duplicate_times,
     };
     let segs: Vec<Segment> =
         segments[first..].iter().map(|s| Segment { i0: s.i0 - i_start, i1: s.i1 - i_start, ..s.clone() }).collect();

@@ -3,9 +3,7 @@
 use super::words::{cause_words, law_words, param_rows};
 use crate::diagnose::Diagnosis;
 use crate::fit::{Curve, FitResult};
-use rsf_plot::{
-    BLACK, GREY, LegendPosition, PALETTE, Panel, PlotError, RGBColor, Series, fmt_num, render, render_stack,
-};
+use rsf_plot::{BLACK, GREY, PALETTE, Panel, PlotError, RGBColor, Series, fmt_num, render, render_stack};
 
 const BASELINE: RGBColor = PALETTE[0];
 const EXTENDED: RGBColor = PALETTE[1];
@@ -79,7 +77,7 @@ pub fn fit_svg(r: &FitResult, name: &str) -> Result<String, PlotError> {
     let c = &r.curve;
     let idx = thin(c.time.len(), 4000);
     let bands = bands(c);
-    let mut top = Panel::new(fit_title(r), LOAD_POINT, "friction μ").legend(LegendPosition::UpperLeft);
+    let mut top = Panel::new(fit_title(r), LOAD_POINT, "friction μ");
     top.bands = bands.clone();
     top = top.with(Series::dots("data".to_string(), idx.iter().map(|&i| (c.load_point[i], c.data[i])).collect(), GREY));
     for s in model_lines(c, &idx, "model", EXTENDED) {
@@ -102,15 +100,14 @@ pub fn models_svg(d: &Diagnosis) -> Result<String, PlotError> {
     let idx = thin(b.time.len(), 3000);
     let bands = bands(b);
     let ext_label = format!("with {}", cause_words(&d.cause.to_string()));
-    let mut top = Panel::new("", LOAD_POINT, "friction μ").legend(LegendPosition::UpperLeft);
+    let mut top = Panel::new("", LOAD_POINT, "friction μ");
     top.bands = bands.clone();
     top = top.with(Series::dots("data".to_string(), idx.iter().map(|&i| (b.load_point[i], b.data[i])).collect(), GREY));
     top.series.extend(model_lines(b, &idx, "baseline", BASELINE));
     if let Some(e) = ext {
         top.series.extend(model_lines(e, &idx, &ext_label, EXTENDED));
     }
-    let mut bottom =
-        Panel::new("", LOAD_POINT, "residual (data − model)").zero_line().legend(LegendPosition::UpperLeft);
+    let mut bottom = Panel::new("", LOAD_POINT, "residual (data − model)").zero_line();
     bottom.bands = bands;
     bottom = bottom.with(Series::dots("baseline".to_string(), residuals(b, &idx), BASELINE));
     if let Some(e) = ext {
@@ -153,12 +150,11 @@ pub fn residuals_svg(d: &Diagnosis) -> Result<String, PlotError> {
         }
         idx.iter().filter(|&&i| c.slip_rate[i] > 0.0).map(|&i| (c.slip_rate[i], c.data[i] - c.model[i])).collect()
     };
-    let mut per_seg = Panel::new("rms misfit per segment", "segment", "rms residual").legend(LegendPosition::UpperLeft);
+    let mut per_seg = Panel::new("rms misfit per segment", "segment", "rms residual").integer_x();
     per_seg = per_seg.with(Series::points("baseline".to_string(), seg_rms(b), BASELINE));
     let mut per_v = Panel::new("residuals against slip rate", "model slip rate V (µm/s)", "residual (data − model)")
         .log_x()
-        .zero_line()
-        .legend(LegendPosition::UpperLeft);
+        .zero_line();
     per_v = per_v.with(Series::dots("baseline".to_string(), vs_v(b), BASELINE));
     if let Some(e) = ext {
         per_seg = per_seg.with(Series::points(ext_label.clone(), seg_rms(e), EXTENDED));
@@ -168,13 +164,14 @@ pub fn residuals_svg(d: &Diagnosis) -> Result<String, PlotError> {
 }
 
 /// Per-event Dc against step size and against hold duration, with one-standard-error bars.
-/// Empty when there were no per-event refits.
+/// Empty when there are fewer than two steps and two holds.
 pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
     let steps: Vec<_> =
         d.per_segment.iter().filter(|e| e.hold_s.is_none() && e.v_before > 0.0 && e.v_after > 0.0).collect();
     let holds: Vec<_> = d.per_segment.iter().filter(|e| e.hold_s.is_some_and(|h| h > 0.0)).collect();
     let mut panels = Vec::new();
-    if !steps.is_empty() {
+    // a panel needs two events to show a trend
+    if steps.len() >= 2 {
         let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc)).collect();
         let err = steps.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
         panels.push(
@@ -182,7 +179,7 @@ pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
                 .with(Series::points(None, pts, BASELINE).y_err(err)),
         );
     }
-    if !holds.is_empty() {
+    if holds.len() >= 2 {
         let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(f64::NAN), e.dc)).collect();
         let err = holds.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
         panels.push(

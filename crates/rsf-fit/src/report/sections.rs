@@ -4,7 +4,7 @@ use super::words::{cause_words, effect_value, heldout_words, law_words, param_me
 use super::{chart, charts, effect_summary, esc, table, verdict};
 use crate::diagnose::{DECISIVE, Diagnosis};
 use crate::fit::FitResult;
-use rsf_plot::{fmt_num, fmt_value, fmt_with_err};
+use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
 /// `ΔBIC` as it is shown in tables: one decimal below 1000 in magnitude, else 4 digits.
 fn score(x: f64) -> String {
@@ -24,14 +24,13 @@ pub(super) fn verdict_section(d: &Diagnosis) -> String {
     let loading = format!("{:?}", b.loading).to_lowercase();
     format!(
         "<p class=\"{class}\">{}</p>\n<p class=\"sub\">Cause: <b>{}</b> · baseline: {} law, one state variable, k = {} \
-         (nominal) · {} samples in {} segments · loading by {loading}. Decision: {}</p>\n",
+         (nominal) · {} samples in {} segments · loading by {loading}.</p>\n",
         verdict(d),
         esc(&cause),
         esc(&law_words(b.params.laws.first().map(String::as_str).unwrap_or(""))),
         esc(&fmt_value(b.params.k, "/µm")),
         b.n,
         b.segments.len(),
-        esc(&d.reason)
     )
 }
 
@@ -48,7 +47,7 @@ pub(super) fn gain(d: &Diagnosis) -> String {
             format!("<l>{}", esc(&cause_words(&d.cause.to_string()))),
             score(g.delta_bic),
             score(g.delta_aic),
-            format!("{} → {}", fmt_num(d.baseline.rms, 3), fmt_num(ext_rms, 3)),
+            fmt_pair(d.baseline.rms, ext_rms, 3),
             fmt_num(g.rms_ratio, 4),
             heldout_words(g.heldout_rms_before, g.heldout_rms_after).unwrap_or_else(|| "–".into()),
         ],
@@ -60,7 +59,7 @@ pub(super) fn gain(d: &Diagnosis) -> String {
                 format!("<l>+ {} (against the first extension)", esc(&cause_words(&s.cause.to_string()))),
                 score(s.delta_bic),
                 "–".into(),
-                format!("{} → {}", fmt_num(ext_rms, 3), fmt_num(s.fit.rms, 3)),
+                fmt_pair(ext_rms, s.fit.rms, 3),
                 fmt_num(s.rms_ratio, 4),
                 heldout_words(s.heldout_rms_before, s.heldout_rms_after).unwrap_or_else(|| "–".into()),
             ],
@@ -81,7 +80,7 @@ pub(super) fn gain(d: &Diagnosis) -> String {
         table("", &head, &rows),
         fmt_num(d.evidence.n_effective.round(), 6),
         d.baseline.n,
-        score(DECISIVE),
+        fmt_num(DECISIVE, 3),
         fmt_num(d.heldout_split_t, 4)
     )
 }
@@ -265,9 +264,11 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
     format!(
         "<h2>Candidates</h2><p class=\"note\">Each extension fitted from the baseline optimum. Bold: decisive \
          (ΔBIC<sub>eff</sub> &lt; {}); shaded: the one named. A candidate is named only if it is also credible: \
-         held-out rms at most 5 % worse than the baseline's and no parameter run to a bound.</p>{}\n",
-        score(DECISIVE),
-        table("wide", &head, &rows)
+         held-out rms at most 5 % worse than the baseline's and no parameter run to a bound.</p>{}\
+         <p class=\"note\">The diagnosis engine's reason: {}</p>\n",
+        fmt_num(DECISIVE, 3),
+        table("wide", &head, &rows),
+        esc(&d.reason)
     )
 }
 

@@ -3,7 +3,7 @@
 use super::esc;
 use crate::diagnose::{DECISIVE, Diagnosis, Evidence};
 use crate::fit::FitResult;
-use rsf_plot::{fmt_num, fmt_value, fmt_with_err};
+use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 use serde_json::Value;
 use std::collections::BTreeMap;
 
@@ -43,7 +43,7 @@ pub(crate) fn subscript(n: usize) -> String {
 
 /// Name (with subscripts), unit and meaning of a fit or effect parameter.
 pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
-    let split = key.find(|c: char| c.is_ascii_digit()).map(|i| key.split_at(i));
+    let split = if key == "mu0" { None } else { key.find(|c: char| c.is_ascii_digit()).map(|i| key.split_at(i)) };
     let (base, idx) = match split {
         Some((b, n)) => (b, n.parse::<usize>().ok()),
         None => (key, None),
@@ -139,7 +139,7 @@ pub fn param_rows(f: &FitResult) -> Vec<(String, String, bool)> {
 
 /// A held-out comparison `before → after`, or empty.
 pub(crate) fn heldout_words(before: Option<f64>, after: Option<f64>) -> Option<String> {
-    Some(format!("{} → {}", fmt_num(before?, 3), fmt_num(after?, 3)))
+    Some(fmt_pair(before?, after?, 3))
 }
 
 /// What in the baseline residuals points at `cause`.
@@ -297,12 +297,11 @@ pub fn verdict(d: &Diagnosis) -> String {
     let g = d.gain.as_ref().expect("checked above");
     let rms_after = d.extended.as_ref().map(|e| e.rms).unwrap_or(d.baseline.rms * g.rms_ratio);
     let mut s = format!(
-        "The data need {} because {}; it gains ΔBIC = {} (rms {} → {}",
+        "The data need {}, because {}; it gains ΔBIC = {} (rms {}",
         need(d),
         because(&cause, d),
         fmt_num(g.delta_bic, 3),
-        fmt_num(d.baseline.rms, 3),
-        fmt_num(rms_after, 3)
+        fmt_pair(d.baseline.rms, rms_after, 3)
     );
     s += &match heldout_words(g.heldout_rms_before, g.heldout_rms_after) {
         Some(h) => format!(", held-out {h})"),
