@@ -211,9 +211,18 @@ fn fit_errors_are_named() {
     let out = rsf().args(["fit", "/nonexistent.csv", "--stiffness", "0.01"]).output().unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
     let bad = tmp("bad.csv");
+    std::fs::write(&bad, "time_s,load_point_um,mu\n0,0,0.6\n1,1,0.6\n0.5,2,0.6\n").unwrap();
+    let out = rsf().args(["fit", bad.to_str().unwrap(), "--stiffness", "0.01"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.csv:4: column `time_s`: time 0.5 does not increase"));
+    // a repeated time names the option that drops such rows
     std::fs::write(&bad, "time_s,load_point_um,mu\n0,0,0.6\n1,1,0.6\n1,2,0.6\n").unwrap();
     let out = rsf().args(["fit", bad.to_str().unwrap(), "--stiffness", "0.01"]).output().unwrap();
-    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.csv:4: column `time_s`: time 1 does not increase"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.csv:4: column `time_s`: time 1 repeats the previous row's")
+            && err.contains("--duplicate-times drop"),
+        "{err}"
+    );
 }
 
 #[test]

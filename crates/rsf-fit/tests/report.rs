@@ -12,10 +12,9 @@ use rsf_fit::segment::{SegmentOptions, detect};
 use rsf_fit::synthetic::{Noise, record};
 use rsf_laws::{Slip, law_by_name};
 
-/// A short step-and-hold record with a hidden slip trend, diagnosed with a Slip baseline.
-fn diagnosis() -> Diagnosis {
-    let truth =
-        Model::new(0.6, 1.0, 0.010, 0.005).with_state(StateVariable::new(Slip, 0.013, 8.0)).with_slip_trend(1e-5);
+/// A short step-and-hold record with a slip trend `g` (per µm), diagnosed with a Slip baseline.
+fn diagnosis(g: f64) -> Diagnosis {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.005).with_state(StateVariable::new(Slip, 0.013, 8.0)).with_slip_trend(g);
     let protocol = [
         (1.0, 60.0, 0.2),
         (10.0, 10.0, 0.2),
@@ -92,7 +91,7 @@ fn long_floats(text: &str) -> Vec<String> {
 
 #[test]
 fn the_report_is_something_a_scientist_would_show() {
-    let d = diagnosis();
+    let d = diagnosis(1e-5);
     println!("cause {}: {}", d.cause, d.reason);
     let html = diagnosis_html(&d, "synthetic <slip trend>.txt");
     if let Ok(p) = std::env::var("RSF_REPORT_OUT") {
@@ -128,6 +127,19 @@ fn the_report_is_something_a_scientist_would_show() {
     assert!(long.is_empty(), "unformatted numbers: {long:?}");
     // units where they belong
     assert!(text.contains("µm") && text.contains("/µm"));
+}
+
+#[test]
+fn with_nothing_hidden_the_verdict_says_the_baseline_stands() {
+    let d = diagnosis(0.0);
+    assert_eq!(d.cause.as_str(), "none", "{}", d.reason);
+    let html = diagnosis_html(&d, "no effect");
+    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
+    let verdict = &body[..body.find("</p>").unwrap()];
+    println!("{verdict}");
+    assert!(verdict.contains("explains the record") && verdict.contains("best was"), "{verdict}");
+    assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
+    assert!(!html.contains("<h2>Effect</h2>"), "no effect table without an effect");
 }
 
 #[test]

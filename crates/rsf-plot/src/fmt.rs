@@ -98,7 +98,14 @@ pub fn fmt_with_err(x: f64, err: f64, unit: &str) -> String {
     let ex = exponent(x.abs().max(err), SIG);
     if (MIN_EXP..MAX_EXP).contains(&ex) {
         let d = (-last).max(0) as usize;
-        with_unit(format!("{} ± {}", tidy(format!("{x:.d$}")), format!("{err:.d$}")), unit)
+        // an uncertainty of tens or more: both rounded to its second digit (`1230 ± 450`)
+        let (x, err) = if last > 0 {
+            let q = 10f64.powi(last);
+            ((x / q).round() * q, (err / q).round() * q)
+        } else {
+            (x, err)
+        };
+        with_unit(format!("{} ± {err:.d$}", tidy(format!("{x:.d$}"))), unit)
     } else {
         let s = 10f64.powi(ex);
         let d = (ex - last).max(0) as usize;
@@ -106,27 +113,34 @@ pub fn fmt_with_err(x: f64, err: f64, unit: &str) -> String {
     }
 }
 
-/// A change `a → b` with `sig` significant digits, both in the same form (decimal, or both
-/// `m×10ⁿ` when either needs it), trailing zeros kept: `0.00110 → 0.000826` is
-/// `1.10×10⁻³ → 8.26×10⁻⁴`.
-pub fn fmt_pair(a: f64, b: f64, sig: usize) -> String {
+/// Numbers shown side by side (a table column, a change), `sig` significant digits each, all in
+/// one form: decimal, or all `m×10ⁿ` when any needs it; trailing zeros kept.
+pub fn fmt_common(xs: &[f64], sig: usize) -> Vec<String> {
     let sig = sig.max(1);
     let decimal = |x: f64| x == 0.0 || !x.is_finite() || (MIN_EXP..MAX_EXP).contains(&exponent(x, sig));
-    let one = |x: f64| {
-        if !x.is_finite() {
-            return "–".to_string();
-        }
-        if decimal(a) && decimal(b) {
-            let d = (sig as i32 - 1 - exponent(x, sig)).max(0) as usize;
-            tidy(format!("{x:.d$}"))
-        } else if x == 0.0 {
-            "0".into()
-        } else {
-            let e = exponent(x, sig);
-            tidy(format!("{:.*}×10{}", sig - 1, x / 10f64.powi(e), superscript(e)))
-        }
-    };
-    format!("{} → {}", one(a), one(b))
+    let all_decimal = xs.iter().all(|&x| decimal(x));
+    xs.iter()
+        .map(|&x| {
+            if !x.is_finite() {
+                "–".to_string()
+            } else if x == 0.0 {
+                "0".into()
+            } else if all_decimal {
+                let d = (sig as i32 - 1 - exponent(x, sig)).max(0) as usize;
+                tidy(format!("{x:.d$}"))
+            } else {
+                let e = exponent(x, sig);
+                tidy(format!("{:.*}×10{}", sig - 1, x / 10f64.powi(e), superscript(e)))
+            }
+        })
+        .collect()
+}
+
+/// A change `a → b` in one form ([`fmt_common`]): `0.00110 → 0.000826` with three digits is
+/// `1.10×10⁻³ → 8.26×10⁻⁴`.
+pub fn fmt_pair(a: f64, b: f64, sig: usize) -> String {
+    let v = fmt_common(&[a, b], sig);
+    format!("{} → {}", v[0], v[1])
 }
 
 /// Decimal places at which evenly spaced ticks (as plotters places them: multiples of 1, 2 or
@@ -175,6 +189,8 @@ mod tests {
         assert_eq!(fmt_with_err(0.009653, 0.000123, ""), "0.00965 ± 0.00012");
         assert_eq!(fmt_with_err(12.34, 1.4, "µm"), "12.3 ± 1.4\u{a0}µm");
         assert_eq!(fmt_with_err(1234.0, 56.0, "s"), "1234 ± 56\u{a0}s");
+        assert_eq!(fmt_with_err(12.8, 18997.0, ""), "0 ± 19000");
+        assert_eq!(fmt_with_err(1234.0, 456.0, ""), "1230 ± 460");
         assert_eq!(fmt_with_err(2.8331e-6, 1.2e-8, "/µm"), "(2.833 ± 0.012)×10⁻⁶\u{a0}/µm");
         assert_eq!(fmt_with_err(-0.0021, 0.0004, ""), "−0.00210 ± 0.00040");
         assert_eq!(fmt_with_err(0.5, f64::NAN, ""), "0.5");
@@ -186,6 +202,7 @@ mod tests {
         assert_eq!(fmt_pair(0.0011, 0.000826, 3), "1.10×10⁻³ → 8.26×10⁻⁴");
         assert_eq!(fmt_pair(0.0104, 0.00968, 3), "0.0104 → 0.00968");
         assert_eq!(fmt_pair(2.0, f64::NAN, 3), "2.00 → –");
+        assert_eq!(fmt_common(&[0.00104, 0.000968, 0.0], 3), ["1.04×10⁻³", "9.68×10⁻⁴", "0"]);
     }
 
     #[test]

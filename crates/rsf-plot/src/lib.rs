@@ -8,7 +8,8 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`chart`] | [`Panel`], [`Series`], [`Style`], the palette, [`render`] (a grid of panels) and [`render_stack`] (panels of given heights, one above the other) |
+//! | [`panel`] | [`Panel`], [`Series`], [`Style`], the palette |
+//! | [`chart`] | [`render`] (a grid of panels), [`render_stack`] (panels of given heights, one above the other), the range rule, tick labels, legend placement |
 //! | [`fmt`] | numbers for people: [`fmt_value`], [`fmt_with_err`], [`fmt_pair`], tick labels that are always distinct |
 //!
 //! ```
@@ -22,9 +23,8 @@
 
 pub mod chart;
 pub mod fmt;
+pub mod panel;
 
-pub use chart::{
-    BLACK, GREY, LegendPosition, PALETTE, Panel, PlotError, RGBColor, Series, Style, lighter, ordered_color, render,
-    render_stack,
-};
-pub use fmt::{fmt_num, fmt_pair, fmt_value, fmt_with_err, superscript, tick_labels};
+pub use chart::{PlotError, render, render_stack};
+pub use fmt::{fmt_common, fmt_num, fmt_pair, fmt_value, fmt_with_err, superscript, tick_labels};
+pub use panel::{BLACK, GREY, LegendPosition, PALETTE, Panel, RGBColor, Series, Style, lighter, ordered_color};

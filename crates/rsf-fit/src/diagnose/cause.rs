@@ -132,7 +132,8 @@ impl Cause {
 
 impl std::fmt::Display for Cause {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
+        // pad: tables align causes with `{:24}`
+        f.pad(self.as_str())
     }
 }
 

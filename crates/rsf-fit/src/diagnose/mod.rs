@@ -29,6 +29,9 @@
 //! | `evidence.rs` | residual statistics, n_eff, reload-slope stiffness, ΔBIC/ΔAIC |
 //! | `starts.rs` | fits of an extension from a nested optimum (and the Vc profile) |
 //! | `heldout.rs` | the held-out test: split, training part, prediction |
+//! | `timing.rs` | samples the protocol's break-time uncertainty cannot predict, left out |
+//! | `reconstruction.rs` | a misfit from a wrong protocol break, told from physics |
+//! | `null.rs` | the null calibration: false-alarm probability by parametric bootstrap |
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `parallel.rs` | an order-keeping parallel map (results independent of thread count) |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
@@ -44,13 +47,15 @@ mod reconstruction;
 mod result;
 mod run;
 mod starts;
+mod timing;
 
 pub use cause::{Cause, effect_of};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
-pub use reconstruction::{RESOLVED_SEGMENT_RATIO, Reconstruction, SUSPECT_SEGMENT_RATIO};
+pub use reconstruction::{RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, SUSPECT_SEGMENT_RATIO};
 pub use result::{Candidate, Diagnosis, EventFit, Evidence, Gain, Secondary};
 pub use run::diagnose;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
+pub use timing::{TIMING_SIGMAS, TimingMask};
 
 use crate::fit::FitOptions;
 

@@ -86,6 +86,19 @@ pub(super) fn replicate(p: &Prepared, base: &FitResult, sigma: f64, tau: f64, se
     rec
 }
 
+/// Gives a replicate the load-point noise of the record (σ_x µm, white) about the protocol's
+/// lines, so that re-segmenting it reproduces the protocol's timing errors: with a noisy load
+/// point the reconstruction is part of what the null must replicate.
+pub(super) fn replicate_load_point(p: &Prepared, rec: &mut Record, sigma_x: f64, seed: u64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_10ad_0000_0000);
+    for s in &p.segments {
+        for i in s.i0..=s.i1 {
+            let z: f64 = StandardNormal.sample(&mut rng);
+            rec.load_point[i] = s.lp0 + s.v * (rec.time[i] - s.t0) + sigma_x * z;
+        }
+    }
+}
+
 /// The gain G of `ext` over `base`: the n_eff-scaled likelihood-ratio statistic.
 pub(super) fn gain(base: &FitResult, ext: &FitResult, n_eff: f64) -> f64 {
     let (dbic, _) = scores(base, ext, n_eff);
@@ -93,8 +106,9 @@ pub(super) fn gain(base: &FitResult, ext: &FitResult, n_eff: f64) -> f64 {
     -dbic + dk * n_eff.ln()
 }
 
-/// Calibrates the observed gain against the replicates' gains (`None` entries failed).
-pub(super) fn calibrate(observed: f64, null: &[Option<f64>]) -> Option<NullCalibration> {
+/// Calibrates the observed gain against the replicates' gains (`None` entries failed); `dk` is
+/// the number of parameters the extension adds.
+pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Option<NullCalibration> {
     let g: Vec<f64> = null.iter().flatten().map(|g| g.max(0.0)).collect();
     if g.len() < 4 {
         return None;
@@ -102,16 +116,14 @@ pub(super) fn calibrate(observed: f64, null: &[Option<f64>]) -> Option<NullCalib
     let n = g.len() as f64;
     let mean = g.iter().sum::<f64>() / n;
     let var = g.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    // c·χ²_d with mean c d and variance 2 c² d; a degenerate null (every gain 0) makes any
-    // positive gain significant
+    // c·χ²_d with mean c d and variance 2 c² d; a degenerate null (every replicate's gain 0:
+    // its moments say nothing) falls back to the textbook χ²_dk
     let p = if mean > 0.0 && var > 0.0 {
         let c = var / (2.0 * mean);
         let d = (2.0 * mean * mean / var).max(1e-3);
         ChiSquared::new(d).map(|chi| chi.sf(observed.max(0.0) / c)).unwrap_or(f64::NAN)
-    } else if observed > 0.0 {
-        0.0
     } else {
-        1.0
+        ChiSquared::new(dk.max(1) as f64).map(|chi| chi.sf(observed.max(0.0))).unwrap_or(f64::NAN)
     };
     Some(NullCalibration {
         replicates: g.len(),

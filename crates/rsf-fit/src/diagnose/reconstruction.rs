@@ -22,6 +22,12 @@ pub const SUSPECT_SEGMENT_RATIO: f64 = 3.0;
 /// segment rms (from above `SUSPECT_SEGMENT_RATIO`) for the protocol to be blamed.
 pub const RESOLVED_SEGMENT_RATIO: f64 = 2.0;
 
+/// Record loading must not make the typical segment worse than this multiple of its misfit
+/// under the protocol: a noisy load point (encoder noise) drives the model with that noise
+/// (k·σ_x in friction), and then every segment misfits more — the suspect one falls among the
+/// others without the protocol being at fault.
+pub const RECORD_MEDIAN_TOLERANCE: f64 = 1.2;
+
 /// A protocol-reconstruction problem found and worked around.
 #[derive(Clone, Debug, Serialize)]
 pub struct Reconstruction {
@@ -57,13 +63,21 @@ pub(super) fn worst_segment(f: &FitResult) -> Option<(usize, f64)> {
         .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
+/// The median segment rms of a fit.
+fn median_rms(f: &FitResult) -> Option<f64> {
+    let mut rms: Vec<f64> = f.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
+    rms.sort_by(f64::total_cmp);
+    rms.get(rms.len() / 2).map(|m| m.max(1e-300))
+}
+
 /// The segment of `record_fit` matching segment `i` of `protocol_fit` (same start time) and its
-/// rms ratio there.
+/// rms ratio there; `None` when record loading made the typical segment worse.
 fn ratio_at(protocol_fit: &FitResult, record_fit: &FitResult, i: usize) -> Option<f64> {
     let t0 = protocol_fit.segments[i].t0;
-    let mut rms: Vec<f64> = record_fit.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
-    rms.sort_by(f64::total_cmp);
-    let med = rms.get(rms.len() / 2)?.max(1e-300);
+    let med = median_rms(record_fit)?;
+    if med > RECORD_MEDIAN_TOLERANCE * median_rms(protocol_fit)? {
+        return None;
+    }
     record_fit.segments.iter().find(|s| (s.t0 - t0).abs() < 1e-9).map(|s| s.rms / med)
 }
 

@@ -1,6 +1,6 @@
 //! What a diagnosis returns.
 
-use super::{Cause, NullCalibration, Reconstruction};
+use super::{Cause, NullCalibration, Reconstruction, TimingMask};
 use crate::fit::{FitOptions, FitResult};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -170,6 +170,9 @@ pub struct Diagnosis {
     /// used record loading).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reconstruction: Option<Reconstruction>,
+    /// Samples left out because the protocol's break times are uncertain (a noisy load point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timing: Option<TimingMask>,
     /// Times (s) of isolated single-sample spikes left out of every fit
     /// ([`crate::data::isolated_spikes`]).
     pub spikes_removed: Vec<f64>,

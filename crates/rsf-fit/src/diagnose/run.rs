@@ -5,14 +5,15 @@ use super::cause::{Cause, builtin, effect_of, other_law};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, n_eff_of, reload_stiffness, scores};
 use super::heldout::{heldout, split_time};
-use super::null::{calibrate, gain, noise_model, replicate};
+use super::null::{calibrate, gain, noise_model, replicate, replicate_load_point};
 use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, judge, worst_segment};
 use super::starts::{fit_from, slip_rate_range};
+use super::timing::timing_mask;
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Gain, Secondary};
 use crate::data::{Record, isolated_spikes};
 use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
-use crate::segment::Segment;
+use crate::segment::{Segment, SegmentOptions, detect};
 use std::collections::BTreeMap;
 
 /// An extension predicts the held-out part credibly when its rms there is at most this
@@ -41,6 +42,8 @@ struct Ctx<'a> {
     t_split: f64,
     /// The baseline's held-out rms and training fit.
     ho_base: Option<(f64, FitResult)>,
+    /// Samples left out for break-time uncertainty (a noisy load point).
+    timing: Option<super::TimingMask>,
 }
 
 impl Ctx<'_> {
@@ -148,19 +151,28 @@ impl Ctx<'_> {
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
         let gains = par_map(&seeds, self.opts.threads, |&seed| {
-            let rec = replicate(&self.p, &self.base, sigma, tau, seed);
+            let mut rec = replicate(&self.p, &self.base, sigma, tau, seed);
+            // a noisy load point: the replicate gets its own, and its own reconstructed protocol
+            let segs = match &self.timing {
+                Some(m) => {
+                    replicate_load_point(&self.p, &mut rec, m.load_point_sigma_um, seed);
+                    detect(&rec.time, &rec.load_point, &SegmentOptions::default())
+                }
+                None => self.p.segments.clone(),
+            };
             let mut o = self.base_opts.clone();
             o.initial =
                 self.base.params.as_initial().into_iter().filter(|(n, _)| n != "g" || o.fit_slip_trend).collect();
             o.starts = 1;
-            let pb = prepare(&rec, &self.p.segments, &o).ok()?;
+            let pb = prepare(&rec, &segs, &o).ok()?;
             let fb = fit(&pb, &o).ok()?;
             let n_eff = n_eff_of(&fb);
-            let pc_of = |oc: &FitOptions| prepare(&rec, &self.p.segments, oc).ok();
+            let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
             let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, n_eff, 1)?;
             Some(gain(&fb, &fc, n_eff))
         });
-        calibrate(observed, &gains)
+        let f = c.fit.as_ref()?;
+        calibrate(observed, &gains, f.n_free.saturating_sub(self.base.n_free))
     }
 }
 
@@ -254,6 +266,18 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
     let (rec, segs) = (&clean, &segs[..]);
     let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
+    let (base_opts, p, base, timing) = match timing_mask(&p, &base) {
+        Some(m) if base_opts.loading == LoadingMode::Protocol => {
+            // refit without the samples the protocol's timing cannot predict, from the optimum
+            let mut om = FitOptions { exclude: m.windows.clone(), ..base_opts.clone() };
+            om.initial = base.params.as_initial();
+            let pm = prepare(rec, segs, &om)?;
+            let bm = fit(&pm, &om)?;
+            om.initial = base_opts.initial.clone();
+            (om, pm, bm, Some(m))
+        }
+        _ => (base_opts, p, base, None),
+    };
     let mut ev = evidence(&base);
     ev.k_reload_slope = reload_stiffness(&p);
     let t_split = split_time(&p.record, &p.segments);
@@ -280,6 +304,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         v_range,
         t_split,
         ho_base,
+        timing: timing.clone(),
     };
     let mut jobs: Vec<Job> = Cause::CANDIDATES
         .into_iter()
@@ -363,6 +388,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         per_segment,
         heldout_split_t: ctx.t_split,
         reconstruction,
+        timing,
         spikes_removed,
         loading: ctx.base_opts.loading,
         candidates: candidates.clone(),

@@ -47,6 +47,9 @@ pub struct FitOptions {
     /// Use only the first `window_um` µm of load-point travel of each segment (and the last of
     /// the first segment); holds are used whole.
     pub window_um: Option<f64>,
+    /// Time windows (s, inclusive) whose samples are left out of the fit (the diagnosis leaves
+    /// out samples whose model value its break-time uncertainty makes unreliable).
+    pub exclude: Vec<(f64, f64)>,
     /// Sample weights.
     pub weighting: Weighting,
     /// What drives the model.
@@ -132,6 +135,7 @@ impl FitOptions {
             fix: vec![],
             mu0_per_segment: false,
             window_um: None,
+            exclude: vec![],
             weighting: Weighting::EqualSegments,
             loading: LoadingMode::Record,
             rtol: 1e-7,

@@ -55,7 +55,8 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
                 Some(w) if k == 0 => rec.load_point[s.i1] - rec.load_point[i] <= w,
                 Some(w) => s.v == 0.0 || (rec.load_point[i] - s.lp0).abs() <= w,
             };
-            if keep {
+            let t = rec.time[i];
+            if keep && !opts.exclude.iter().any(|&(a, b)| a <= t && t <= b) {
                 used.push(i);
                 seg_of.push(k);
             }

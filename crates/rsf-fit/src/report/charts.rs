@@ -182,9 +182,13 @@ pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
     if holds.len() >= 2 {
         let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(f64::NAN), e.dc)).collect();
         let err = holds.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
+        // whole decades with room on both sides: a hold of exactly 100 s is not on the axis
+        let (lo, hi) =
+            rsf_plot::chart::padded(holds.iter().flat_map(|e| e.hold_s).flat_map(|h| [h / 1.5, h * 1.5]), true);
         panels.push(
             Panel::new("Dc refitted hold by hold", "hold duration (s)", "Dc (µm)")
                 .log_x()
+                .x_range(lo, hi)
                 .with(Series::points(None, pts, EXTENDED).y_err(err)),
         );
     }

@@ -79,6 +79,7 @@ pub fn diagnosis_html(d: &Diagnosis, name: &str) -> String {
     let body = [
         sections::header(d, name),
         sections::verdict_section(d),
+        sections::record_quality(d),
         sections::gain(d),
         sections::effect(d),
         sections::parameters(d),

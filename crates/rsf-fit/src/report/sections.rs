@@ -4,7 +4,7 @@ use super::words::{cause_words, effect_value, heldout_words, law_words, param_me
 use super::{chart, charts, effect_summary, esc, table, verdict};
 use crate::diagnose::{DECISIVE, Diagnosis};
 use crate::fit::FitResult;
-use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
+use rsf_plot::{fmt_common, fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
 /// `ΔBIC` as it is shown in tables: one decimal below 1000 in magnitude, else 4 digits.
 fn score(x: f64) -> String {
@@ -153,8 +153,9 @@ pub(super) fn parameters(d: &Diagnosis) -> String {
         rows.push((String::new(), cells));
     };
     extra("laws", &|f| esc(&law_words(&f.params.laws.join("+"))));
-    extra("rms misfit", &|f| fmt_num(f.rms, 3));
     extra("free parameters", &|f| f.n_free.to_string());
+    let rms = fmt_common(&fits.iter().map(|(_, f)| f.rms).collect::<Vec<_>>(), 3);
+    rows.insert(rows.len() - 1, (String::new(), std::iter::once("<l>rms misfit".to_string()).chain(rms).collect()));
     let mut head = vec!["<l>parameter".to_string()];
     head.extend(fits.iter().map(|(h, _)| esc(h)));
     let head: Vec<&str> = head.iter().map(String::as_str).collect();
@@ -191,10 +192,12 @@ pub(super) fn events(d: &Diagnosis) -> String {
     if d.per_segment.is_empty() {
         return String::new();
     }
+    let rms = fmt_common(&d.per_segment.iter().map(|e| e.rms).collect::<Vec<_>>(), 3);
     let rows: Vec<(String, Vec<String>)> = d
         .per_segment
         .iter()
-        .map(|e| {
+        .zip(rms)
+        .map(|(e, rms)| {
             (
                 String::new(),
                 vec![
@@ -205,7 +208,7 @@ pub(super) fn events(d: &Diagnosis) -> String {
                     fmt_num(e.a, 3),
                     fmt_num(e.b, 3),
                     esc(&fmt_with_err(e.dc, e.dc * e.ln_dc_stderr, "")),
-                    fmt_num(e.rms, 3),
+                    rms,
                 ],
             )
         })
@@ -226,10 +229,17 @@ pub(super) fn events(d: &Diagnosis) -> String {
 /// Every candidate extension and its score.
 pub(super) fn candidates(d: &Diagnosis) -> String {
     let chosen = d.cause.to_string();
+    // held-out rms in one form down both columns
+    let n = d.candidates.len();
+    let nan = f64::NAN;
+    let held: Vec<f64> = d.candidates.iter().map(|c| c.heldout_rms_before.unwrap_or(nan)).collect();
+    let held =
+        fmt_common(&[held, d.candidates.iter().map(|c| c.heldout_rms_after.unwrap_or(nan)).collect()].concat(), 3);
     let rows: Vec<(String, Vec<String>)> = d
         .candidates
         .iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             let cause = c.cause.to_string();
             let class = if cause == chosen { "chosen" } else { "" };
             let bic =
@@ -242,9 +252,12 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
                     bic,
                     score(c.delta_aic),
                     fmt_num(c.rms_ratio, 4),
-                    c.heldout_rms_before.map_or("–".into(), |x| fmt_num(x, 3)),
-                    c.heldout_rms_after.map_or("–".into(), |x| fmt_num(x, 3)),
+                    held[i].clone(),
+                    held[n + i].clone(),
                     format!("<l>{}", if c.at_bound.is_empty() { "–".into() } else { esc(&c.at_bound.join(", ")) }),
+                    c.null.as_ref().map_or("–".into(), |n| {
+                        format!("{} ({}/{})", fmt_num(n.false_alarm_probability, 2), n.exceeded, n.replicates)
+                    }),
                     format!("<l>{}", effect_summary(&c.effect)),
                 ],
             )
@@ -259,12 +272,15 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
         "held-out rms, baseline",
         "held-out rms, extended",
         "<l>at bound",
+        "P(false alarm) (replicates reaching it)",
         "<l>effect",
     ];
     format!(
         "<h2>Candidates</h2><p class=\"note\">Each extension fitted from the baseline optimum. Bold: decisive \
          (ΔBIC<sub>eff</sub> &lt; {}); shaded: the one named. A candidate is named only if it is also credible: \
-         held-out rms at most 5 % worse than the baseline's and no parameter run to a bound.</p>{}\
+         held-out rms at most 5 % worse than the baseline's, no parameter run to a bound, and a gain that \
+         noise replicates of the baseline reach with probability below the false-alarm level (1 % by \
+         default).</p>{}\
          <p class=\"note\">The diagnosis engine's reason: {}</p>\n",
         fmt_num(DECISIVE, 3),
         table("wide", &head, &rows),
@@ -325,4 +341,40 @@ pub(super) fn evidence(d: &Diagnosis) -> String {
         "<h2>Evidence from the baseline residuals</h2>{}\n",
         table("", &["<l>quantity", "value", "<l>what it says"], &rows)
     )
+}
+
+/// What was done to the record before physics was judged: a protocol-reconstruction problem
+/// worked around, isolated spikes left out, rows with repeated times dropped.
+pub(super) fn record_quality(d: &Diagnosis) -> String {
+    let mut items = vec![];
+    if let Some(r) = &d.reconstruction {
+        items.push(format!("<li><b>Protocol problem:</b> {}</li>", esc(&r.message)));
+    }
+    if let Some(m) = &d.timing {
+        items.push(format!(
+            "<li>The load point scatters by {} about the protocol, so its break times are uncertain: {} samples \
+             near {} breaks, where that uncertainty moves the model by more than the noise, were left out of \
+             every fit.</li>",
+            esc(&fmt_value(m.load_point_sigma_um, "µm")),
+            m.samples,
+            m.windows.len()
+        ));
+    }
+    if !d.spikes_removed.is_empty() {
+        let t: Vec<String> = d.spikes_removed.iter().take(12).map(|t| fmt_num(*t, 6)).collect();
+        items.push(format!(
+            "<li>{} isolated single-sample spike{} left out of every fit (t = {}{} s).</li>",
+            d.spikes_removed.len(),
+            if d.spikes_removed.len() == 1 { "" } else { "s" },
+            t.join(", "),
+            if d.spikes_removed.len() > 12 { ", …" } else { "" }
+        ));
+    }
+    if d.baseline.steps > 0 && d.baseline.budget_hit.is_some() {
+        items.push("<li>The baseline fit stopped at its work budget before it converged.</li>".into());
+    }
+    if items.is_empty() {
+        return String::new();
+    }
+    format!("<h2>The record</h2><ul class=\"note\">{}</ul>\n", items.join(""))
 }

@@ -250,7 +250,7 @@ pub fn verdict(d: &Diagnosis) -> String {
     let baseline = format!(
         "baseline ({} law, {} state variable{})",
         laws.join(" + "),
-        laws.len(),
+        ["no", "one", "two", "three"].get(laws.len()).map_or(laws.len().to_string(), |w| w.to_string()),
         if laws.len() == 1 { "" } else { "s" }
     );
     if cause == "none" || d.gain.is_none() {
@@ -307,8 +307,19 @@ pub fn verdict(d: &Diagnosis) -> String {
         Some(h) => format!(", held-out {h})"),
         None => ", no held-out test)".into(),
     };
+    let null = d.candidates.iter().find(|c| c.cause == d.cause).and_then(|c| c.null.as_ref());
     let sure = if g.delta_bic < DECISIVE {
-        format!("decisive (ΔBIC < {} with {n_eff})", fmt_num(DECISIVE, 3))
+        format!(
+            "decisive (ΔBIC < {} with {n_eff}){}",
+            fmt_num(DECISIVE, 3),
+            null.map_or(String::new(), |n| format!(
+                ", and a gain this large arises by chance under the baseline with probability {} ({} of {} noise \
+                 replicates reached it)",
+                fmt_num(n.false_alarm_probability, 2),
+                n.exceeded,
+                n.replicates
+            ))
+        )
     } else {
         format!("not decisive (ΔBIC ≥ {})", fmt_num(DECISIVE, 3))
     };

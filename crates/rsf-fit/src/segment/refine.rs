@@ -27,8 +27,15 @@ impl Line {
     }
 }
 
+/// Each body line is fitted on at most this many times the margin of samples next to it: near
+/// enough to the break that a load point which is not quite piecewise linear (a servo that
+/// settles, a drifting encoder) is judged by its local lines, long enough to average encoder
+/// noise.
+const BODY_PER_MARGIN: usize = 10;
+
 /// The lines of the bodies of segments `s0..s` and `s1..s2` (each without up to `margin`
-/// samples next to the other, at most a quarter of it); `None` when a body is too short.
+/// samples next to the other, at most a quarter of it, and no longer than `BODY_PER_MARGIN`
+/// margins); `None` when a body is too short.
 fn body_lines(
     time: &[f64],
     lp: &[f64],
@@ -38,7 +45,8 @@ fn body_lines(
 ) -> Option<(Line, Line, usize, usize)> {
     let ma = margin.min((s - s0) / 4);
     let mb = margin.min((s2 - s1) / 4);
-    let (body_a, body_b) = (s0..s - ma, s1 + mb..s2);
+    let len = BODY_PER_MARGIN * margin.max(2);
+    let (body_a, body_b) = ((s - ma).saturating_sub(len).max(s0)..s - ma, s1 + mb..(s1 + mb + len).min(s2));
     if body_a.len() < 2 || body_b.len() < 2 {
         return None;
     }
