@@ -12,13 +12,22 @@ use super::starts::{fit_from, slip_rate_range};
 use super::timing::timing_mask;
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Gain, Secondary};
 use crate::data::{Record, isolated_spikes};
-use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
+use crate::fit::{Budget, FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
 use crate::segment::{Segment, SegmentOptions, detect};
 use std::collections::BTreeMap;
 
 /// An extension predicts the held-out part credibly when its rms there is at most this
 /// multiple of the baseline's.
 const HELDOUT_TOLERANCE: f64 = 1.05;
+
+/// A candidate's held-out training fit may do this many times the work of its fit on the whole
+/// record, and at least `HELDOUT_MIN_STEPS` integrator steps.
+const HELDOUT_WORK_FACTOR: f64 = 5.0;
+const HELDOUT_MIN_STEPS: u64 = 1_000_000;
+
+/// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
+/// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
+const CANDIDATE_STARTS: usize = 2;
 
 /// At most this many decisive candidates are put to the null calibration (each costs
 /// `null_replicates` pairs of refits); the rest keep their place in the table.
@@ -55,7 +64,9 @@ impl Ctx<'_> {
         // only when the fit from the nominal k did not soften the machine: then the nominal may
         // sit where k has no gradient
         let stuck = first.as_ref().is_none_or(|f| f.params.k > 0.8 * from.k);
-        if !(o.fit_stiffness && !self.base_opts.fit_stiffness && stuck) {
+        // (a start that already has a fitted k, e.g. a combination's, is not at the nominal)
+        let at_nominal = from.k == self.base_opts.stiffness;
+        if !(o.fit_stiffness && !self.base_opts.fit_stiffness && stuck && at_nominal) {
             return first;
         }
         let mut ks = vec![from.k / 4.0, from.k / 16.0];
@@ -113,12 +124,18 @@ impl Ctx<'_> {
         let (extension, o, pc, f) =
             self.fit_cause(&pc_of, cause, &self.base.params, &self.base, self.ev.n_effective, threads)?;
         let (dbic, daic) = scores(&self.base, &f, self.ev.n_effective);
+        // the training part is smaller than the record: its fit gets a multiple of the full
+        // fit's work (a training fit wandering into a stiff corner must not dominate the run)
+        let ho_steps = ((HELDOUT_WORK_FACTOR * f.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
         let ho = match &self.ho_base {
             Some((_, ft_base)) => heldout(
                 &pc.record,
                 &pc.segments,
                 &o,
-                &|pt: &Prepared, ot: &FitOptions| self.fit_best(pt, ot, &ft_base.params, threads),
+                &|pt: &Prepared, ot: &FitOptions| {
+                    let ot = FitOptions { budget: Budget { steps: ho_steps, ..ot.budget }, ..ot.clone() };
+                    self.fit_best(pt, &ot, &ft_base.params, threads)
+                },
                 self.t_split,
             ),
             None => None,
@@ -233,9 +250,13 @@ fn baseline(
         if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
             let or = FitOptions { loading: LoadingMode::Record, ..o.clone() };
             let pr = prepare(rec, segs, &or)?;
-            if let Ok(fr) = fit(&pr, &or) {
+            // the check: one start, warm from the protocol optimum; when the protocol is to
+            // blame, the record-loading baseline is then fitted in full
+            let check = FitOptions { initial: base.params.as_initial(), starts: 1, ..or.clone() };
+            if let Ok(fr) = fit(&pr, &check) {
                 if let Some(r) = judge(&base, &fr, i, ratio) {
-                    return Ok((or, pr, fr, Some(r)));
+                    let full = fit(&pr, &or)?;
+                    return Ok((or, pr, full, Some(r)));
                 }
             }
         }
@@ -265,19 +286,30 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         .collect();
     let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
     let (rec, segs) = (&clean, &segs[..]);
+    // RSF_DIAGNOSE_TIMING=1: each stage's and job's wall time on stderr (profiling only)
+    let timing_log = std::env::var_os("RSF_DIAGNOSE_TIMING").is_some();
+    let clock = std::time::Instant::now();
+    let lap = |what: &str| {
+        if timing_log {
+            eprintln!("diagnose: {what} done at {:.2} s", clock.elapsed().as_secs_f64());
+        }
+    };
     let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
+    lap("baseline and reconstruction check");
     let (base_opts, p, base, timing) = match timing_mask(&p, &base) {
         Some(m) if base_opts.loading == LoadingMode::Protocol => {
             // refit without the samples the protocol's timing cannot predict, from the optimum
             let mut om = FitOptions { exclude: m.windows.clone(), ..base_opts.clone() };
-            om.initial = base.params.as_initial();
+            // a few samples fewer: one start, warm from the optimum
+            let warm = FitOptions { initial: base.params.as_initial(), starts: 1, ..om.clone() };
             let pm = prepare(rec, segs, &om)?;
-            let bm = fit(&pm, &om)?;
+            let bm = fit(&pm, &warm)?;
             om.initial = base_opts.initial.clone();
             (om, pm, bm, Some(m))
         }
         _ => (base_opts, p, base, None),
     };
+    lap("break-timing mask");
     let mut ev = evidence(&base);
     ev.k_reload_slope = reload_stiffness(&p);
     let t_split = split_time(&p.record, &p.segments);
@@ -288,6 +320,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     } else {
         None
     };
+    lap("held-out baseline");
     let v_range = slip_rate_range(&base).unwrap_or((1e-3, 1e3));
     let ctx = Ctx {
         rec,
@@ -295,7 +328,14 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         opts,
         // a candidate the data cannot constrain (e.g. b2 running to its bound) must not
         // dominate the work: each candidate fit gets a third of the baseline budget
-        cand_opts: FitOptions { budget: base_opts.budget.scaled(1.0 / 3.0), ..base_opts.clone() },
+        // and, starting from the baseline optimum, fewer starts: the scaled restarts of a cold
+        // fit explore what the baseline's own multi-start already explored (a second state
+        // keeps its two extra starts, b2 of either sign)
+        cand_opts: FitOptions {
+            budget: base_opts.budget.scaled(1.0 / 3.0),
+            starts: base_opts.starts.min(CANDIDATE_STARTS),
+            ..base_opts.clone()
+        },
         base_law: base_opts.laws[0].name(),
         base_opts,
         p,
@@ -316,12 +356,16 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     }
     let done_count = std::sync::atomic::AtomicUsize::new(0);
     let results = par_map(&jobs, opts.threads, |job| {
+        let clock = std::time::Instant::now();
         let (what, out) = match job {
             Job::Candidate(c) => (c.to_string(), Done::Candidate(ctx.candidate(*c).map(Box::new))),
             Job::Event(a, b) => {
                 (format!("segment {}", b + 1), Done::Event(fit_event(&ctx.p, &ctx.base_opts, &ctx.base, *a, *b)))
             }
         };
+        if timing_log {
+            eprintln!("diagnose: {what} in {:.2} s", clock.elapsed().as_secs_f64());
+        }
         let d = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         if let Some(pr) = &opts.progress {
             pr(d, jobs.len(), &what);
@@ -350,7 +394,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 continue;
             }
             tried += 1;
+            let clock = std::time::Instant::now();
             c.null = ctx.calibrate(c);
+            if timing_log {
+                eprintln!("diagnose: null calibration of {} in {:.2} s", c.cause, clock.elapsed().as_secs_f64());
+            }
             if let Some(pr) = &opts.progress {
                 pr(jobs.len(), jobs.len(), &format!("null calibration of {}", c.cause));
             }
@@ -370,10 +418,12 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         .find(|c| chosen.is_none() || ineligible(c, level).is_none())
         .or_else(|| others().next())
         .map(|c| (c.cause, c.delta_bic));
+    lap("candidates, events and null calibration");
     let secondary = match chosen {
         Some(c1) if opts.combinations => secondary(&ctx, c1, &decisive, level),
         _ => None,
     };
+    lap("combinations");
     let (cause, reason, extended, gain, effect, confidence) = verdict(&ctx, chosen, &candidates, &rejected, &secondary);
     Ok(Diagnosis {
         cause,
@@ -408,20 +458,24 @@ fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> 
     let tries = par_map(&others, threads, |c2| -> Option<Secondary> {
         let o = c2.cause.extend(&o1, &ctx.base_law)?;
         let pc = prepare(ctx.rec, ctx.segs, &o).ok()?;
-        // from the winner's optimum, the added extension at its neutral value (as the
-        // candidates start from the baseline's)
-        let f = ctx.fit_best(&pc, &o, &f1.params, threads)?;
+        // from both optima: the winner's, with the added extension's parameters from its own
+        // fit (no second Vc profile, no second search for a soft machine)
+        let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
+        let f = ctx.fit_best(&pc, &o, &from, threads)?;
         let (dbic, _) = scores(f1, &f, n1);
-        // held out: from the winner's training optimum
-        let ho = match (&c1.heldout_fit, ctx.opts.heldout) {
-            (Some(ft1), true) => heldout(
-                &pc.record,
-                &pc.segments,
-                &o,
-                &|pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &ft1.params, threads),
-                ctx.t_split,
-            )
-            .map(|h| h.0),
+        // held out: from the two training optima, never from a fit that saw the held-out part
+        let ho = match (&c1.heldout_fit, &c2.heldout_fit, ctx.opts.heldout) {
+            (Some(ft1), Some(ft2), true) => {
+                let from = merge(&ft1.params, &ft2.params, c2.cause);
+                heldout(
+                    &pc.record,
+                    &pc.segments,
+                    &o,
+                    &|pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &from, threads),
+                    ctx.t_split,
+                )
+                .map(|h| h.0)
+            }
             _ => None,
         };
         Some(Secondary {
@@ -443,6 +497,25 @@ fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> 
                 && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
         })
         .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+}
+
+/// The start of a combination: the parameters `p1` of the first extension's fit, with the
+/// parameters that the extension `cause2` adds taken from its own fit `p2`.
+fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
+    let mut p = p1.clone();
+    match cause2 {
+        Cause::SecondStateVariable if p1.b.len() == 1 && p2.b.len() == 2 => {
+            // the slower of the two states as the added one
+            let i = if p2.dc[1] >= p2.dc[0] { 1 } else { 0 };
+            p.b.push(p2.b[i]);
+            p.dc.push(p2.dc[i]);
+        }
+        Cause::CutoffVelocity => p.law_params.extend(p2.law_params.iter().map(|(k, v)| (k.clone(), *v))),
+        Cause::SlipTrend => p.g = p2.g,
+        Cause::Stiffness => p.k = p2.k,
+        _ => {}
+    }
+    p
 }
 
 type Verdict = (Cause, String, Option<FitResult>, Option<Gain>, BTreeMap<String, serde_json::Value>, f64);
