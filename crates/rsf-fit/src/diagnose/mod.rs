@@ -51,7 +51,9 @@ mod timing;
 
 pub use cause::{Cause, effect_of};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
-pub use reconstruction::{RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, SUSPECT_SEGMENT_RATIO};
+pub use reconstruction::{
+    RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES, SUSPECT_SEGMENT_RATIO,
+};
 pub use result::{Candidate, Diagnosis, EventFit, Evidence, Gain, Secondary};
 pub use run::diagnose;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
@@ -85,6 +87,9 @@ pub struct DiagnoseOptions {
     pub null_replicates: usize,
     /// A cause is named only when its false-alarm probability is below this.
     pub false_alarm_level: f64,
+    /// Leave out the samples that a noisy load point's break-time uncertainty makes
+    /// unpredictable ([`TimingMask`]).
+    pub timing_mask: bool,
     /// Seed of the bootstrap noise (the diagnosis is a deterministic function of the record,
     /// the options and this seed).
     pub seed: u64,
@@ -105,6 +110,7 @@ impl DiagnoseOptions {
             null_replicates: NULL_REPLICATES,
             false_alarm_level: FALSE_ALARM_LEVEL,
             seed: 1,
+            timing_mask: std::env::var_os("RSF_NO_TIMING_MASK").is_none(),
             progress: None,
         }
     }

@@ -11,7 +11,7 @@
 //! effect (a cut-off, healing of the wrong law) misfits under both loadings alike and is left to
 //! the candidates.
 
-use crate::fit::{FitResult, LoadingMode};
+use crate::fit::FitResult;
 use crate::segment::SegmentKind;
 use serde::Serialize;
 
@@ -28,6 +28,21 @@ pub const RESOLVED_SEGMENT_RATIO: f64 = 2.0;
 /// others without the protocol being at fault.
 pub const RECORD_MEDIAN_TOLERANCE: f64 = 1.2;
 
+/// A suspect segment with fewer samples than this is too short for its velocity and break times
+/// to be reconstructed from a noisy load point (a 0.3 s step at 300 µm/s sampled at 10 Hz):
+/// when record loading cannot settle the question, it is left out rather than explained.
+pub const SHORT_SEGMENT_SAMPLES: usize = 30;
+
+/// What the diagnosis did about a protocol problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Remedy {
+    /// Drove the model by the measured load point.
+    RecordLoading,
+    /// Left the segments out of every fit (a short segment of a noisy load point).
+    Excluded,
+}
+
 /// A protocol-reconstruction problem found and worked around.
 #[derive(Clone, Debug, Serialize)]
 pub struct Reconstruction {
@@ -39,10 +54,13 @@ pub struct Reconstruction {
     pub t: f64,
     /// Its rms over the median segment rms under protocol loading.
     pub rms_ratio_protocol: f64,
-    /// The same under record loading.
-    pub rms_ratio_record: f64,
+    /// The same under record loading (absent when record loading could not test it).
+    pub rms_ratio_record: Option<f64>,
     /// What the diagnosis did about it.
-    pub remedy: LoadingMode,
+    pub remedy: Remedy,
+    /// Time windows left out of every fit (s), for `Remedy::Excluded`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub excluded: Vec<(f64, f64)>,
     /// In words.
     pub message: String,
 }
@@ -91,8 +109,9 @@ pub(super) fn judge(protocol_fit: &FitResult, record_fit: &FitResult, i: usize, 
         kind: s.kind,
         t: s.t0,
         rms_ratio_protocol: ratio,
-        rms_ratio_record: after,
-        remedy: LoadingMode::Record,
+        rms_ratio_record: Some(after),
+        remedy: Remedy::RecordLoading,
+        excluded: vec![],
         message: format!(
             "segment {} ({}, from t = {:.2} s) misfits {:.1}× the median segment under the reconstructed \
              protocol but {:.1}× when the model is driven by the measured load point: the protocol's \
@@ -102,6 +121,53 @@ pub(super) fn judge(protocol_fit: &FitResult, record_fit: &FitResult, i: usize, 
             s.t0,
             ratio,
             after
+        ),
+    })
+}
+
+/// When record loading could not settle it: the run of suspect segments (rms above
+/// `SUSPECT_SEGMENT_RATIO` × the median) that contains a short one (fewer than
+/// `SHORT_SEGMENT_SAMPLES` samples), as a time window to leave out; `None` when no short segment
+/// is suspect (a misfit in a long segment is left to the physics).
+pub(super) fn exclude_short(protocol_fit: &FitResult) -> Option<Reconstruction> {
+    let mut rms: Vec<f64> = protocol_fit.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
+    rms.sort_by(f64::total_cmp);
+    let med = rms.get(rms.len() / 2)?.max(1e-300);
+    let segs = &protocol_fit.segments;
+    let suspect = |i: usize| segs[i].n > 0 && segs[i].rms > SUSPECT_SEGMENT_RATIO * med;
+    let short = (0..segs.len()).find(|&i| suspect(i) && segs[i].n < SHORT_SEGMENT_SAMPLES)?;
+    // the contiguous run of suspect segments around it
+    let mut a = short;
+    while a > 0 && suspect(a - 1) {
+        a -= 1;
+    }
+    let mut b = short;
+    while b + 1 < segs.len() && suspect(b + 1) {
+        b += 1;
+    }
+    let ratio = segs[short].rms / med;
+    let window = (segs[a].t0, segs[b].t1);
+    Some(Reconstruction {
+        segment: segs[short].index,
+        kind: segs[short].kind,
+        t: segs[short].t0,
+        rms_ratio_protocol: ratio,
+        rms_ratio_record: None,
+        remedy: Remedy::Excluded,
+        excluded: vec![window],
+        message: format!(
+            "segment {} ({}, from t = {:.2} s, {} samples) misfits {:.1}× the median segment; it is too short for its \
+             velocity and breaks to be reconstructed from this load point, and record loading cannot test it (the \
+             load point is noisy): segments {}–{} (t = {:.2}–{:.2} s) were left out of every fit",
+            segs[short].index,
+            segs[short].kind.name(),
+            segs[short].t0,
+            segs[short].n,
+            ratio,
+            segs[a].index,
+            segs[b].index,
+            window.0,
+            window.1
         ),
     })
 }

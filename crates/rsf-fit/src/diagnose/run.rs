@@ -7,7 +7,7 @@ use super::evidence::{evidence, n_eff_of, reload_stiffness, scores};
 use super::heldout::{heldout, split_time};
 use super::null::{calibrate, gain, noise_model, replicate, replicate_load_point};
 use super::parallel::par_map;
-use super::reconstruction::{SUSPECT_SEGMENT_RATIO, judge, worst_segment};
+use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
 use super::starts::{fit_from, slip_rate_range};
 use super::timing::timing_mask;
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Gain, Secondary};
@@ -51,8 +51,9 @@ struct Ctx<'a> {
     t_split: f64,
     /// The baseline's held-out rms and training fit.
     ho_base: Option<(f64, FitResult)>,
-    /// Samples left out for break-time uncertainty (a noisy load point).
-    timing: Option<super::TimingMask>,
+    /// Load-point noise about the protocol, µm, when it matters for the break times: the null
+    /// replicates then re-segment their own noisy load point.
+    lp_noise: Option<f64>,
 }
 
 impl Ctx<'_> {
@@ -165,14 +166,14 @@ impl Ctx<'_> {
     fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
         let (sigma, tau) = noise_model(&self.base);
         let observed = gain(&self.base, c.fit.as_ref()?, self.ev.n_effective);
-        let seeds: Vec<u64> =
-            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        let gains = par_map(&seeds, self.opts.threads, |&seed| {
+        let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
+        let one = |seed: &u64| -> Option<f64> {
+            let seed = *seed;
             let mut rec = replicate(&self.p, &self.base, sigma, tau, seed);
             // a noisy load point: the replicate gets its own, and its own reconstructed protocol
-            let segs = match &self.timing {
-                Some(m) => {
-                    replicate_load_point(&self.p, &mut rec, m.load_point_sigma_um, seed);
+            let segs = match self.lp_noise {
+                Some(sx) => {
+                    replicate_load_point(&self.p, &mut rec, sx, seed);
                     detect(&rec.time, &rec.load_point, &SegmentOptions::default())
                 }
                 None => self.p.segments.clone(),
@@ -187,9 +188,23 @@ impl Ctx<'_> {
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
             let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, n_eff, 1)?;
             Some(gain(&fb, &fc, n_eff))
+        };
+        let seeds: Vec<u64> =
+            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
+        // the first half first: when its verdict is far from the level either way (a factor 100
+        // below, 10 above) the second half cannot change it; the same seeds in the same order
+        // keep the result deterministic
+        let half = seeds.len().div_ceil(2);
+        let mut gains = par_map(&seeds[..half], self.opts.threads, one);
+        let early = calibrate(observed, &gains, dk).filter(|n| {
+            let (p, level) = (n.false_alarm_probability, self.opts.false_alarm_level);
+            p < level / 100.0 || p > 10.0 * level
         });
-        let f = c.fit.as_ref()?;
-        calibrate(observed, &gains, f.n_free.saturating_sub(self.base.n_free))
+        if early.is_some() {
+            return early;
+        }
+        gains.extend(par_map(&seeds[half..], self.opts.threads, one));
+        calibrate(observed, &gains, dk)
     }
 }
 
@@ -259,6 +274,14 @@ fn baseline(
                     return Ok((or, pr, full, Some(r)));
                 }
             }
+            // record loading could not clear it: a short suspect segment is left out
+            if let Some(r) = exclude_short(&base) {
+                let mut oe = o.clone();
+                oe.exclude.extend(r.excluded.iter().copied());
+                let pe = prepare(rec, segs, &oe)?;
+                let be = fit(&pe, &oe)?;
+                return Ok((oe, pe, be, Some(r)));
+            }
         }
     }
     Ok((o.clone(), p, base, None))
@@ -296,8 +319,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
     lap("baseline and reconstruction check");
-    let (base_opts, p, base, timing) = match timing_mask(&p, &base) {
-        Some(m) if base_opts.loading == LoadingMode::Protocol => {
+    let mask = timing_mask(&p, &base);
+    // the load-point noise the null replicates re-segment with, masked or not
+    let lp_noise = mask.as_ref().map(|m| m.load_point_sigma_um);
+    let (base_opts, p, base, timing) = match mask {
+        Some(m) if opts.timing_mask && base_opts.loading == LoadingMode::Protocol => {
             // refit without the samples the protocol's timing cannot predict, from the optimum
             let mut om = FitOptions { exclude: m.windows.clone(), ..base_opts.clone() };
             // a few samples fewer: one start, warm from the optimum
@@ -344,7 +370,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         v_range,
         t_split,
         ho_base,
-        timing: timing.clone(),
+        lp_noise,
     };
     let mut jobs: Vec<Job> = Cause::CANDIDATES
         .into_iter()

@@ -194,11 +194,18 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
     }
     // fuse neighbours of similar velocity (or both at rest) and absorb tiny segments, until stable
     // at rest: a slope within three standard errors of zero, or a travel over the segment below
-    // HOLD_TRAVEL_UM or three noise σ (on a clean load point the standard error is round-off; on a
-    // noisy one a travel within the noise is no measurable motion)
+    // HOLD_TRAVEL_UM (on a clean load point the standard error is round-off) or below the noise
+    // the median of σ² χ²_k/k lies below σ² (k = run − 2 degrees of freedom; by 30% for runs of
+    // four samples): a hold's slope is judged against its real standard error, with the median
+    // divided by that of χ²_k/k (Wilson–Hilferty)
+    let dof = (run as f64 - 2.0).max(1.0);
+    let s2_hold = s2 / (1.0 - 2.0 / (9.0 * dof)).powi(3);
     let is_hold = |mo: &Moments| {
         let travel = mo.slope().abs() * (12.0 * mo.stt / mo.n.max(1.0)).sqrt();
-        mo.slope().abs() < 3.0 * mo.slope_se(s2).max(1e-12) || travel < HOLD_TRAVEL_UM.max(3.0 * s2.sqrt())
+        let (slope, se) = (mo.slope().abs(), mo.slope_se(s2_hold).max(1e-12));
+        // a travel within three noise σ is no measurable motion — unless the slope stands out
+        // of its error by far (a slow step of 3e-4 µm/s over 1300 s travels 0.4 µm, 30 errors)
+        slope < 3.0 * se || travel < HOLD_TRAVEL_UM || (travel < 3.0 * s2.sqrt() && slope < 10.0 * se)
     };
     let similar = |a: &Moments, b: &Moments| {
         let (ha, hb) = (is_hold(a), is_hold(b));
