@@ -52,7 +52,8 @@ mod timing;
 pub use cause::{Cause, effect_of};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use reconstruction::{
-    RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES, SUSPECT_SEGMENT_RATIO,
+    RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
+    SUSPECT_SEGMENT_RATIO,
 };
 pub use result::{Candidate, Diagnosis, EventFit, Evidence, Gain, Secondary};
 pub use run::diagnose;
