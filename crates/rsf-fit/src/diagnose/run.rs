@@ -220,13 +220,13 @@ fn ineligible(c: &Candidate, level: f64) -> Option<String> {
         })
     } else if !c.at_bound.is_empty() {
         Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
-    } else if let Some(n) = c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)) {
-        Some(format!(
-            "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates reached it)",
-            c.cause, n.false_alarm_probability, n.exceeded, n.replicates
-        ))
     } else {
-        None
+        c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)).map(|n| {
+            format!(
+                "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates reached it)",
+                c.cause, n.false_alarm_probability, n.exceeded, n.replicates
+            )
+        })
     }
 }
 
