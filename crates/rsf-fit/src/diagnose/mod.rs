@@ -34,10 +34,12 @@
 //! | `null.rs` | the null calibration: false-alarm probability by parametric bootstrap |
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `parallel.rs` | an order-keeping parallel map (results independent of thread count) |
+//! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
 //! | `result.rs` | [`Diagnosis`], [`Candidate`], [`Evidence`] and the rest of the output |
 
 mod cause;
+mod decide;
 mod events;
 mod evidence;
 mod heldout;

@@ -1,0 +1,136 @@
+//! The decision: which decisive candidate is credible, the verdict in words, and the start of a
+//! combination from two optima.
+
+use super::cause::Cause;
+use super::{Candidate, DECISIVE, Gain, Secondary};
+use crate::fit::{FitResult, Params};
+use std::collections::BTreeMap;
+
+/// An extension predicts the held-out part credibly when its rms there is at most this
+/// multiple of the baseline's.
+const HELDOUT_TOLERANCE: f64 = 1.05;
+
+/// Why a decisive candidate is not named: it predicts the held-out part worse (it fits the
+/// training data better but overfits), its fit ran to a physical bound (the data do not
+/// constrain it: e.g. a second state turned into a linear trend), or its gain is not rare
+/// under the baseline and the record's own noise.
+pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
+    if !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
+        Some(match c.heldout_rms_after {
+            Some(_) => format!("{} predicted the held-out part worse", c.cause),
+            None => format!("{} could not be fitted to the held-out training part", c.cause),
+        })
+    } else if !c.at_bound.is_empty() {
+        Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
+    } else {
+        c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)).map(|n| {
+            format!(
+                "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates reached it)",
+                c.cause, n.false_alarm_probability, n.exceeded, n.replicates
+            )
+        })
+    }
+}
+
+/// The held-out test passes when the extension predicts no more than 5% worse; it fails when
+/// the extension's training fit fails where the baseline's did not (an extension the training
+/// part cannot pin down is the overfitting the test is there to catch).
+pub(super) fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
+    match (before, after) {
+        (Some(b), Some(a)) => a <= HELDOUT_TOLERANCE * b,
+        (Some(_), None) => false,
+        _ => true,
+    }
+}
+
+/// The start of a combination: the parameters `p1` of the first extension's fit, with the
+/// parameters that the extension `cause2` adds taken from its own fit `p2`.
+pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
+    let mut p = p1.clone();
+    match cause2 {
+        Cause::SecondStateVariable if p1.b.len() == 1 && p2.b.len() == 2 => {
+            // the slower of the two states as the added one
+            let i = if p2.dc[1] >= p2.dc[0] { 1 } else { 0 };
+            p.b.push(p2.b[i]);
+            p.dc.push(p2.dc[i]);
+        }
+        Cause::CutoffVelocity => p.law_params.extend(p2.law_params.iter().map(|(k, v)| (k.clone(), *v))),
+        Cause::SlipTrend => p.g = p2.g,
+        Cause::Stiffness => p.k = p2.k,
+        _ => {}
+    }
+    p
+}
+
+type Verdict = (Cause, String, Option<FitResult>, Option<Gain>, BTreeMap<String, serde_json::Value>, f64);
+
+/// The cause, the reason in words, the extended fit, the gain, the effect and the confidence.
+pub(super) fn verdict(
+    n_eff: f64,
+    chosen: Option<&Candidate>,
+    candidates: &[Candidate],
+    rejected: &[String],
+    secondary: &Option<Secondary>,
+) -> Verdict {
+    let rejected_note = if rejected.is_empty() {
+        String::new()
+    } else {
+        format!(" (better-scoring but set aside: {})", rejected.join("; "))
+    };
+    match chosen {
+        Some(c) => (
+            c.cause,
+            format!(
+                "{} improves the fit decisively: ΔBIC = {:.1} with n_eff = {:.0} (threshold {DECISIVE}), rms ratio {:.3}{}{}{}{}",
+                c.extension,
+                c.delta_bic,
+                n_eff,
+                c.rms_ratio,
+                match (c.heldout_rms_before, c.heldout_rms_after) {
+                    (Some(b), Some(a)) => format!(", held-out rms {b:.2e} → {a:.2e}"),
+                    _ => String::new(),
+                },
+                match &c.null {
+                    Some(n) => format!(
+                        ", false-alarm probability {:.1e} ({} of {} noise replicates reached its gain)",
+                        n.false_alarm_probability, n.exceeded, n.replicates
+                    ),
+                    None => String::new(),
+                },
+                match secondary {
+                    Some(s) => format!("; adding {} gains a further ΔBIC = {:.1}", s.cause, s.delta_bic),
+                    None => String::new(),
+                },
+                rejected_note
+            ),
+            c.fit.clone(),
+            Some(Gain {
+                delta_bic: c.delta_bic,
+                delta_aic: c.delta_aic,
+                rms_ratio: c.rms_ratio,
+                heldout_rms_before: c.heldout_rms_before,
+                heldout_rms_after: c.heldout_rms_after,
+            }),
+            c.effect.clone(),
+            c.delta_bic,
+        ),
+        None => (
+            Cause::None,
+            match candidates.first() {
+                Some(_) if !rejected.is_empty() => format!(
+                    "no extension is both decisive and credible: {} (n_eff = {n_eff:.0}); the baseline stands",
+                    rejected.join("; "),
+                ),
+                Some(b) => format!(
+                    "no extension earns its parameters: best is {} with ΔBIC = {:.1} (needs < {DECISIVE}) with n_eff = {n_eff:.0}",
+                    b.extension, b.delta_bic
+                ),
+                None => "no candidate could be fitted".into(),
+            },
+            None,
+            None,
+            BTreeMap::new(),
+            candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
+        ),
+    }
+}
