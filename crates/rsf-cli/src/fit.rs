@@ -2,24 +2,11 @@
 
 use crate::{DiagnoseArgs, FitArgs};
 use anyhow::{Context, Result, bail};
+use rsf_fit::diagnose::{EventFit, event_windows, per_event_fits};
 use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, Weighting, fit, prepare};
-use rsf_fit::segment::{SegmentKind, SegmentOptions, detect};
+use rsf_fit::segment::{SegmentOptions, detect};
 use serde::Serialize;
 use std::time::Instant;
-
-#[derive(Serialize)]
-struct PerSegment {
-    segment: usize,
-    kind: SegmentKind,
-    v_before: f64,
-    v_after: f64,
-    a: f64,
-    b: Vec<f64>,
-    dc: Vec<f64>,
-    k: f64,
-    rms: f64,
-    n: usize,
-}
 
 #[derive(Serialize)]
 struct Output<'a> {
@@ -29,7 +16,7 @@ struct Output<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     mcmc: Option<rsf_fit::mcmc::McmcResult>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    per_segment: Vec<PerSegment>,
+    per_segment: Vec<EventFit>,
     wall_s: f64,
 }
 
@@ -122,7 +109,15 @@ pub fn run(a: &FitArgs) -> Result<()> {
     }
     let mut per_segment = vec![];
     if a.per_segment {
-        per_segment = per_segment_fits(&prep, &opts)?;
+        // the refits of `rsf diagnose`: each event alone, the model running from the record's start
+        per_segment = per_event_fits(&prep, &opts, &res, 0);
+        let events = event_windows(&prep).len();
+        if per_segment.len() < events {
+            eprintln!(
+                "rsf fit: {} of {events} events not refitted alone (the window does not pin the parameters down within a tenth of the full fit's step budget)",
+                events - per_segment.len()
+            );
+        }
     }
     let mcmc = match a.mcmc {
         Some(n) => {
@@ -146,41 +141,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
     Ok(())
 }
 
-/// Each velocity step fitted alone: the end of the segment before it and the step segment.
-fn per_segment_fits(prep: &rsf_fit::fit::Prepared, opts: &FitOptions) -> Result<Vec<PerSegment>> {
-    let mut out = vec![];
-    for k in 1..prep.segments.len() {
-        let (s0, s1) = (&prep.segments[k - 1], &prep.segments[k]);
-        if !(s0.v > 0.0 && s1.v > 0.0) {
-            continue;
-        }
-        // the last quarter of the previous segment and the whole step segment
-        let i0 = s0.i1 - (s0.i1 - s0.i0) / 4;
-        let rec = prep.record.window(prep.record.time[i0], prep.record.time[s1.i1]);
-        let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-        let mut o = opts.clone();
-        o.mu0_per_segment = false;
-        let Ok(p) = prepare(&rec, &segs, &o) else { continue };
-        match fit(&p, &o) {
-            Ok(r) => out.push(PerSegment {
-                segment: k + 1,
-                kind: s1.kind,
-                v_before: s0.v,
-                v_after: s1.v,
-                a: r.params.a,
-                b: r.params.b.clone(),
-                dc: r.params.dc.clone(),
-                k: r.params.k,
-                rms: r.rms,
-                n: r.n,
-            }),
-            Err(e) => eprintln!("rsf fit: segment {} not fitted alone: {e}", k + 1),
-        }
-    }
-    Ok(out)
-}
-
-fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSegment]) -> String {
+fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[EventFit]) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let p = &r.params;
@@ -246,17 +207,19 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[PerSe
     if !per.is_empty() {
         let _ = writeln!(
             s,
-            "per-step fits:\\n{:>4} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9}",
-            "seg", "kind", "V_i", "V_f", "a", "b1", "dc1", "rms"
+            "per-event fits (each step and hold alone):\n{:>4} {:>6} {:>10} {:>9} {:>9} {:>8} {:>10} {:>10} {:>9} {:>9}",
+            "seg", "event", "kind", "V_i", "V_f", "hold_s", "a", "b1", "dc1", "rms"
         );
         for x in per {
             let _ = writeln!(
                 s,
-                "{:>4} {:>10} {:>9.4} {:>9.4} {:>10.5} {:>10.5} {:>9.3} {:>9.2e}",
+                "{:>4} {:>6} {:>10} {:>9.4} {:>9.4} {:>8} {:>10.5} {:>10.5} {:>9.3} {:>9.2e}",
                 x.segment,
+                x.event.name(),
                 x.kind.name(),
                 x.v_before,
                 x.v_after,
+                x.hold_s.map_or("–".to_string(), |h| format!("{h:.1}")),
                 x.a,
                 x.b[0],
                 x.dc[0],

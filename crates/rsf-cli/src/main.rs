@@ -226,7 +226,7 @@ struct FitArgs {
     /// Number of starting points for LM.
     #[arg(long, default_value_t = 4)]
     starts: usize,
-    /// Also fit each velocity step on its own (the consistency check across step sizes).
+    /// Also refit each velocity step and each hold-and-reslide on its own (the consistency check across step sizes and hold times; the same refits as `rsf diagnose`)
     #[arg(long)]
     per_segment: bool,
     /// Run MCMC with this many samples in total (after the LM fit).

@@ -45,7 +45,7 @@ fn run(truth: &Model, k_nominal: f64, tau: f64, seed: u64) -> rsf_fit::diagnose:
     for ev in &d.per_segment {
         println!(
             "      {} t {:.0} {:.2}→{:.2} hold {:?}: a {:.5} b {:.5} dc {:.2} ±{:.3}",
-            ev.event, ev.t, ev.v_before, ev.v_after, ev.hold_s, ev.a, ev.b, ev.dc, ev.ln_dc_stderr
+            ev.event, ev.t, ev.v_before, ev.v_after, ev.hold_s, ev.a, ev.b[0], ev.dc[0], ev.ln_dc_stderr
         );
     }
     if let Some(s) = &d.secondary {

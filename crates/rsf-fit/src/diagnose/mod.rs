@@ -40,7 +40,7 @@
 
 mod cause;
 mod decide;
-mod events;
+pub mod events;
 mod evidence;
 mod heldout;
 mod null;
@@ -52,12 +52,13 @@ mod starts;
 mod timing;
 
 pub use cause::{Cause, effect_of};
+pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,
 };
-pub use result::{Candidate, Diagnosis, EventFit, Evidence, Gain, Secondary};
+pub use result::{Candidate, Diagnosis, Evidence, Gain, Secondary};
 pub use run::diagnose;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};

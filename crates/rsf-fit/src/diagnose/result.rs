@@ -1,6 +1,6 @@
 //! What a diagnosis returns.
 
-use super::{Cause, NullCalibration, Reconstruction, TimingMask};
+use super::{Cause, EventFit, NullCalibration, Reconstruction, TimingMask};
 use crate::fit::{FitOptions, FitResult};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -37,31 +37,6 @@ pub struct Evidence {
     /// (median over events; the reload-slope method): a nominal k far from it points at
     /// `stiffness`.
     pub k_reload_slope: Option<f64>,
-}
-
-/// One step or hold refitted alone with the baseline law (free mu0, a, b, Dc).
-#[derive(Clone, Debug, Serialize)]
-pub struct EventFit {
-    /// `step` or `hold`.
-    pub event: String,
-    /// Time of the change, s.
-    pub t: f64,
-    /// Load-point velocity before and after, µm/s.
-    pub v_before: f64,
-    /// After.
-    pub v_after: f64,
-    /// Hold duration, s (holds only).
-    pub hold_s: Option<f64>,
-    /// Fitted a, b, Dc (µm).
-    pub a: f64,
-    /// b.
-    pub b: f64,
-    /// Dc, µm.
-    pub dc: f64,
-    /// Standard error of ln Dc.
-    pub ln_dc_stderr: f64,
-    /// rms misfit of the window.
-    pub rms: f64,
 }
 
 /// One candidate extension and its score.

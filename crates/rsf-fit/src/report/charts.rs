@@ -172,16 +172,16 @@ pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
     let mut panels = Vec::new();
     // a panel needs two events to show a trend
     if steps.len() >= 2 {
-        let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc)).collect();
-        let err = steps.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
+        let pts = steps.iter().map(|e| ((e.v_after / e.v_before).log10(), e.dc[0])).collect();
+        let err = steps.iter().map(|e| e.dc[0] * e.ln_dc_stderr).collect();
         panels.push(
             Panel::new("Dc refitted step by step", "step size log10(V after / V before)", "Dc (µm)")
                 .with(Series::points(None, pts, BASELINE).y_err(err)),
         );
     }
     if holds.len() >= 2 {
-        let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(f64::NAN), e.dc)).collect();
-        let err = holds.iter().map(|e| e.dc * e.ln_dc_stderr).collect();
+        let pts = holds.iter().map(|e| (e.hold_s.unwrap_or(f64::NAN), e.dc[0])).collect();
+        let err = holds.iter().map(|e| e.dc[0] * e.ln_dc_stderr).collect();
         // whole decades with room on both sides: a hold of exactly 100 s is not on the axis
         let (lo, hi) =
             rsf_plot::chart::padded(holds.iter().flat_map(|e| e.hold_s).flat_map(|h| [h / 1.5, h * 1.5]), true);

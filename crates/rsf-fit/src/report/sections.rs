@@ -201,13 +201,13 @@ pub(super) fn events(d: &Diagnosis) -> String {
             (
                 String::new(),
                 vec![
-                    format!("<l>{}", esc(&e.event)),
+                    format!("<l>{}", e.event),
                     fmt_num(e.t, 5),
                     format!("{} → {}", fmt_num(e.v_before, 3), fmt_num(e.v_after, 3)),
                     e.hold_s.map_or("–".into(), |h| fmt_num(h, 4)),
                     fmt_num(e.a, 3),
-                    fmt_num(e.b, 3),
-                    esc(&fmt_with_err(e.dc, e.dc * e.ln_dc_stderr, "")),
+                    fmt_num(e.b[0], 3),
+                    esc(&fmt_with_err(e.dc[0], e.dc[0] * e.ln_dc_stderr, "")),
                     rms,
                 ],
             )

@@ -14,6 +14,7 @@
 mod consolidate;
 mod moments;
 mod refine;
+mod split;
 
 use consolidate::consolidate;
 use moments::Moments;
@@ -232,6 +233,24 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
     bounds.push(n);
     refine::absorb_ramps(time, lp, &mut bounds, margin, s2, floor2, &is_hold);
     refine::exact_breaks(time, lp, &mut bounds, margin, &is_hold);
+    // a segment its own line cannot explain hides a step (split.rs); a stub split off next to a
+    // break joins the neighbour it belongs to, and the breaks are refined again
+    for _ in 0..4 {
+        // the unbiased noise variance: the test compares sums of squares with their expectation
+        if !split::split_misfits(time, lp, &mut bounds, s2_hold.max(floor2), penalty, &is_hold) {
+            break;
+        }
+        let seg = |a: usize, b: usize| Moments::of(&time[a..b], &lp[a..b]);
+        let mut k = 1;
+        while k + 1 < bounds.len() {
+            if similar(&seg(bounds[k - 1], bounds[k]), &seg(bounds[k], bounds[k + 1])) {
+                bounds.remove(k);
+            } else {
+                k += 1;
+            }
+        }
+        refine::exact_breaks(time, lp, &mut bounds, margin, &is_hold);
+    }
     // final fits and kinds
     let mut out: Vec<Segment> = Vec::new();
     let mut last_moving: Option<f64> = None;
