@@ -187,19 +187,26 @@ impl Ctx<'_> {
         };
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        // the first half first: when its verdict is far from the level either way (a factor 100
-        // below, 10 above) the second half cannot change it; the same seeds in the same order
-        // keep the result deterministic
-        let half = seeds.len().div_ceil(2);
-        let mut gains = par_map(&seeds[..half], self.opts.threads, one);
-        let early = calibrate(observed, &gains, dk).filter(|n| {
-            let (p, level) = (n.false_alarm_probability, self.opts.false_alarm_level);
-            p < level / 100.0 || p > 10.0 * level
-        });
-        if early.is_some() {
-            return early;
+        // a sequential test: a quarter of the replicates, then half, then all, stopping when the
+        // verdict is so far from the level either way that more replicates cannot change it —
+        // a factor 1e4 below or 100 above after a quarter, 100 below or 10 above after half.
+        // The same seeds in the same order keep the result deterministic.
+        let (level, n) = (self.opts.false_alarm_level, seeds.len());
+        let mut gains = vec![];
+        for (upto, below, above) in [(n.div_ceil(4).max(4), 1e-4, 100.0), (n.div_ceil(2), 1e-2, 10.0)] {
+            if upto >= n || upto <= gains.len() {
+                continue;
+            }
+            gains.extend(par_map(&seeds[gains.len()..upto], self.opts.threads, one));
+            let decided = calibrate(observed, &gains, dk).filter(|c| {
+                let p = c.false_alarm_probability;
+                p < below * level || p > above * level
+            });
+            if decided.is_some() {
+                return decided;
+            }
         }
-        gains.extend(par_map(&seeds[half..], self.opts.threads, one));
+        gains.extend(par_map(&seeds[gains.len()..], self.opts.threads, one));
         calibrate(observed, &gains, dk)
     }
 }
