@@ -4,7 +4,7 @@
 //! blow-ups as errors at the reference blow-up time.
 
 use rsf_core::{Loading, Model, Segment, StateVariable};
-use rsf_solvers::{Dopri5, Method, OutputTimes, Problem, Rodas4, SolveError};
+use rsf_solvers::{Method, OutputTimes, Problem, SolveError};
 use rsf_tests::{data_dir, read_csv, reference_cases};
 use serde_json::Value;
 
@@ -71,7 +71,8 @@ fn reference_cases_agree_to_1e_9_in_friction() {
         let tight = read_csv(&data_dir().join(format!("reference/tight_radau/{name}.csv"))).1;
         let peer = read_csv(&data_dir().join(format!("reference/rsfmodel/{name}.csv"))).1;
         let blowup = case["accuracy"]["reference_blowup_time_s"].as_f64();
-        for method in [Method::Explicit(Dopri5::new(rtol, 1e-14)), Method::Implicit(Rodas4::new(rtol, 1e-14))] {
+        // every built-in method, the automatic one included
+        for method in Method::NAMES.iter().map(|n| Method::from_name(n, rtol, 1e-14).unwrap()) {
             match (method.solve(&problem), blowup) {
                 (Ok(sol), None) => {
                     assert_eq!(sol.len(), tight[0].len(), "{name}: row count");
@@ -114,8 +115,10 @@ fn reference_cases_agree_to_1e_9_in_friction() {
 fn blowup_message_names_the_time() {
     let cases = reference_cases();
     let case = cases["cases"].as_array().unwrap().iter().find(|c| c["name"] == "b_slip_vstep_1_10").unwrap();
-    let err = Method::Implicit(Rodas4::new(1e-8, 1e-12)).solve(&build(case)).unwrap_err();
-    let msg = err.to_string();
-    assert!(msg.contains("t = 11.355"), "{msg}");
-    assert!(msg.contains("eta"), "{msg}");
+    for name in ["rodas4", "auto"] {
+        let err = Method::from_name(name, 1e-8, 1e-12).unwrap().solve(&build(case)).unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("t = 11.355"), "{name}: {msg}");
+        assert!(msg.contains("eta"), "{name}: {msg}");
+    }
 }

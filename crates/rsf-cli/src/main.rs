@@ -119,7 +119,7 @@ enum Command {
         /// Also write an SVG plot of friction and slip rate against time.
         #[arg(long)]
         plot: Option<PathBuf>,
-        /// Override the protocol's solver method: "implicit" (Rodas4) or "explicit" (Dormand-Prince 5(4)).
+        /// Override the protocol's solver method: auto (Tsit5 while non-stiff, Rodas5P where stiff), tsit5, dopri5, rodas5p or rodas4 ("explicit" = tsit5, "implicit" = rodas5p).
         #[arg(long)]
         method: Option<String>,
         /// Override the protocol's relative tolerance (solver.rtol).
@@ -292,7 +292,7 @@ duration = 500.0
 dt = 0.02           # s; optional for a record (default: the record's own times)
 
 [solver]
-method = \"implicit\" # \"implicit\" (Rodas4, exact Jacobian) | \"explicit\" (Dormand-Prince 5(4))
+method = \"auto\"     # \"auto\" (Tsit5, switching to Rodas5P where stiff) | \"tsit5\" | \"dopri5\" | \"rodas5p\" | \"rodas4\"
 rtol = 1e-9         # relative error per step in V and theta
 atol = 1e-12        # absolute error in slip, µm
 max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error";
@@ -349,16 +349,12 @@ fn run(cli: Cli) -> Result<()> {
         Command::Simulate { protocol, output, plot, method, rtol, atol } => {
             let mut p = rsf_solvers::protocol::load(&protocol)?;
             if method.is_some() || rtol.is_some() || atol.is_some() {
-                let tol = match &p.method {
-                    rsf_solvers::Method::Explicit(m) => m.tol,
-                    rsf_solvers::Method::Implicit(m) => m.tol,
-                };
-                let name = method.clone().unwrap_or_else(|| match p.method {
-                    rsf_solvers::Method::Explicit(_) => "explicit".into(),
-                    rsf_solvers::Method::Implicit(_) => "implicit".into(),
-                });
+                let tol = p.method.tolerances();
+                let name = method.clone().unwrap_or_else(|| p.method.name().into());
                 p.method = rsf_solvers::Method::from_name(&name, rtol.unwrap_or(tol.rtol), atol.unwrap_or(tol.atol))
-                    .with_context(|| format!("unknown --method `{name}`; use implicit or explicit"))?;
+                    .with_context(|| {
+                        format!("unknown --method `{name}`; use one of {}", rsf_solvers::Method::NAMES.join(", "))
+                    })?;
             }
             let start = Instant::now();
             let sol = p.method.solve(&p.problem).with_context(|| format!("simulating {}", protocol.display()))?;

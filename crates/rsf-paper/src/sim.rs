@@ -19,18 +19,18 @@ impl Resolution {
     /// What the examples use: Rodas4 (L-stable: holds are stiff) at rtol 1e-10, atol 1e-13,
     /// 20 000 samples per run, 300 plotted points per curve.
     pub fn figure() -> Self {
-        Self { method: Method::Implicit(Rodas4::new(1e-10, 1e-13)), samples: 20_000, plot_points: 300 }
+        Self { method: Method::Rodas4(Rodas4::new(1e-10, 1e-13)), samples: 20_000, plot_points: 300 }
     }
 
     /// A cheaper setting for tests: Rodas4 at rtol 1e-9, 2 000 samples per run.
     pub fn quick() -> Self {
-        Self { method: Method::Implicit(Rodas4::new(1e-9, 1e-12)), samples: 2_000, plot_points: 200 }
+        Self { method: Method::Rodas4(Rodas4::new(1e-9, 1e-12)), samples: 2_000, plot_points: 200 }
     }
 
     /// [`quick`](Self::quick) with the explicit Dormand–Prince 5(4) method instead: an
     /// independent integrator to check the implicit one against.
     pub fn quick_explicit() -> Self {
-        Self { method: Method::Explicit(Dopri5::new(1e-9, 1e-12)), ..Self::quick() }
+        Self { method: Method::Dopri5(Dopri5::new(1e-9, 1e-12)), ..Self::quick() }
     }
 }
 

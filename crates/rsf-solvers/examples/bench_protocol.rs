@@ -14,39 +14,19 @@
 
 use rsf_core::{Loading, Model, Segment, StateVariable};
 use rsf_laws::{Aging, Slip};
-use rsf_solvers::{Dopri5, Integrator, OutputTimes, Problem, Rodas4, Solution, solve};
+use rsf_solvers::{Auto, Dopri5, Integrator, OutputTimes, Problem, Rodas4, Rodas5P, Solution, Tsit5, solve};
 use std::time::Instant;
+
+#[path = "common/seed_protocol.rs"]
+mod seed_protocol;
+use seed_protocol::seed_protocol;
 
 /// Load-point slip per velocity segment, µm (≈ 10 Dc for the Slip-law fit).
 const SLIDE: f64 = 20.0;
 
 /// The protocol as (v, duration) segments, starting at steady state at 3 µm/s.
 fn protocol() -> Vec<(f64, f64)> {
-    let mut s: Vec<(f64, f64)> = Vec::new();
-    let slide = |s: &mut Vec<(f64, f64)>, v: f64| s.push((v, SLIDE / v));
-    let grid = [1.0, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001];
-    // series A: 3 → V_f → 3 (7 decreases, 7 increases)
-    for &vf in &grid {
-        slide(&mut s, vf);
-        slide(&mut s, 3.0);
-    }
-    // series B: 3 → 1, then 1 → V_f → 1 (7 decreases, 6 increases)
-    slide(&mut s, 1.0);
-    for &vf in &grid[1..] {
-        slide(&mut s, vf);
-        slide(&mut s, 1.0);
-    }
-    // holds from 1, then 1 → 0.3 (decrease 15), holds, 0.3 → 0.03 (decrease 16), holds
-    for (i, &vi) in [1.0, 0.3, 0.03].iter().enumerate() {
-        if i > 0 {
-            slide(&mut s, vi);
-        }
-        for th in [10.0, 30.0, 100.0, 300.0, 1000.0, 3000.0, 10000.0] {
-            s.push((0.0, th));
-            slide(&mut s, vi);
-        }
-    }
-    s
+    seed_protocol()
 }
 
 fn model(law: &str) -> Model {
@@ -128,11 +108,14 @@ fn main() {
         for rtol in [1e-8] {
             let (te, e) = timed(&p, &Dopri5::new(rtol, 1e-11), repeats);
             let (ti, i) = timed(&p, &Rodas4::new(rtol, 1e-11), repeats);
-            for (t, s) in [(te, &e), (ti, &i)] {
+            let (tt, ts) = timed(&p, &Tsit5::new(rtol, 1e-11), repeats);
+            let (tp, ps) = timed(&p, &Rodas5P::new(rtol, 1e-11), repeats);
+            let (ta, au) = timed(&p, &Auto::new(rtol, 1e-11), repeats);
+            for (t, s) in [(ta, &au), (tt, &ts), (te, &e), (tp, &ps), (ti, &i)] {
                 row(law, rtol, t, s, segs.len(), max_dmu(s, &tight));
             }
             if law == "slip" {
-                rust_radau_ref = Some((te, ti, e.mu[e.len() - 1]));
+                rust_radau_ref = Some((ta, ti, au.mu[au.len() - 1]));
             }
         }
         // Rodas4's error estimate is conservative: at rtol 1e-7 it matches dopri5's 1e-8 accuracy
@@ -194,7 +177,7 @@ fn main() {
             };
             println!(
                 "\nscipy solve_ivp(Radau), same equations/tolerance/protocol, median of 3: {:.1} ms ({} RHS, {} Jacobians, {} LU)\n\
-                 ratio scipy Radau / rsf dopri5 = {:.0}x, / rsf rodas4 = {:.0}x; end friction differs by {:.1e}",
+                 ratio scipy Radau / rsf auto = {:.0}x, / rsf rodas4 = {:.0}x; end friction differs by {:.1e}",
                 ts * 1e3,
                 field("nfev"),
                 field("njev"),

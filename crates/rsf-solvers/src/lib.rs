@@ -1,8 +1,9 @@
 //! # rsf-solvers — integrators and the forward solver
 //!
-//! A [`Problem`] (model + loading + output times), an algorithm ([`Dopri5`] explicit or
-//! [`Rodas4`] implicit, both implementing [`Integrator`]) and a [`Solution`] are separate
-//! values: swap the algorithm without touching the problem.
+//! A [`Problem`] (model + loading + output times), an algorithm ([`Auto`], the default, which
+//! runs [`Tsit5`] while the problem is non-stiff and [`Rodas5P`] where it is stiff; or any of
+//! them alone, or [`Dopri5`] / [`Rodas4`] for comparison — all implementing [`Integrator`]) and
+//! a [`Solution`] are separate values: swap the algorithm without touching the problem.
 //!
 //! The integrators are hand-written (docs/solvers.md says why): the systems have 3–10
 //! unknowns, so a stack-allocated, monomorphised stepper is the fastest possible; every
@@ -38,40 +39,86 @@
 //! assert!((mu_end - implicit.mu.last().unwrap()).abs() < 1e-8);
 //! ```
 
+mod auto;
 mod dopri5;
+mod erk;
+mod lu;
 mod ode;
 pub mod protocol;
 mod rodas4;
+mod rodas5p;
+mod rosenbrock;
 mod solve;
+mod tableau;
+mod tsit5;
 
+pub use auto::Auto;
 pub use dopri5::Dopri5;
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 pub use rodas4::Rodas4;
+pub use rodas5p::Rodas5P;
 pub use solve::{MAX_STATES, OutputTimes, Problem, Solution, SolveError, drive, output_times, solve, solve_friction};
+pub use tsit5::Tsit5;
 
-/// The two built-in methods, for run-time selection (e.g. from a protocol file).
+/// The built-in methods, for run-time selection (e.g. from a protocol file).
 #[derive(Clone, Copy, Debug)]
 pub enum Method {
+    /// [`Auto`]: Tsit5 while non-stiff, Rodas5P where stiff (the default).
+    Auto(Auto),
+    /// [`Tsit5`].
+    Tsit5(Tsit5),
     /// [`Dopri5`].
-    Explicit(Dopri5),
+    Dopri5(Dopri5),
+    /// [`Rodas5P`].
+    Rodas5P(Rodas5P),
     /// [`Rodas4`].
-    Implicit(Rodas4),
+    Rodas4(Rodas4),
 }
 
 impl Method {
-    /// `"explicit"` or `"implicit"` with tolerances.
+    /// The names [`from_name`](Self::from_name) accepts, besides the aliases `explicit` (Tsit5)
+    /// and `implicit` (Rodas5P).
+    pub const NAMES: [&'static str; 5] = ["auto", "tsit5", "dopri5", "rodas5p", "rodas4"];
+
+    /// A method by name with tolerances; `None` for an unknown name.
     pub fn from_name(name: &str, rtol: f64, atol: f64) -> Option<Self> {
-        match name {
-            "explicit" | "dopri5" => Some(Self::Explicit(Dopri5::new(rtol, atol))),
-            "implicit" | "rodas4" => Some(Self::Implicit(Rodas4::new(rtol, atol))),
-            _ => None,
+        Some(match name {
+            "auto" => Self::Auto(Auto::new(rtol, atol)),
+            "tsit5" | "explicit" => Self::Tsit5(Tsit5::new(rtol, atol)),
+            "dopri5" => Self::Dopri5(Dopri5::new(rtol, atol)),
+            "rodas5p" | "implicit" => Self::Rodas5P(Rodas5P::new(rtol, atol)),
+            "rodas4" => Self::Rodas4(Rodas4::new(rtol, atol)),
+            _ => return None,
+        })
+    }
+    /// Its name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Auto(m) => m.name(),
+            Self::Tsit5(m) => m.name(),
+            Self::Dopri5(m) => m.name(),
+            Self::Rodas5P(m) => m.name(),
+            Self::Rodas4(m) => m.name(),
+        }
+    }
+    /// Its tolerances.
+    pub fn tolerances(&self) -> Tolerances {
+        match self {
+            Self::Auto(m) => m.tol,
+            Self::Tsit5(m) => m.tol,
+            Self::Dopri5(m) => m.tol,
+            Self::Rodas5P(m) => m.tol,
+            Self::Rodas4(m) => m.tol,
         }
     }
     /// Solves `problem` with this method.
     pub fn solve(&self, problem: &Problem) -> Result<Solution, SolveError> {
         match self {
-            Self::Explicit(m) => solve(problem, m),
-            Self::Implicit(m) => solve(problem, m),
+            Self::Auto(m) => solve(problem, m),
+            Self::Tsit5(m) => solve(problem, m),
+            Self::Dopri5(m) => solve(problem, m),
+            Self::Rodas5P(m) => solve(problem, m),
+            Self::Rodas4(m) => solve(problem, m),
         }
     }
 }

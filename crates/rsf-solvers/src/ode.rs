@@ -50,6 +50,10 @@ pub struct StepStats {
     pub jacobian_evals: u64,
     /// LU decompositions.
     pub lu_decompositions: u64,
+    /// Switches of the automatic method from explicit to implicit (stiffness detected).
+    pub to_implicit: u64,
+    /// …and back (the stretch became non-stiff).
+    pub to_explicit: u64,
 }
 
 impl std::ops::AddAssign for StepStats {
@@ -59,6 +63,8 @@ impl std::ops::AddAssign for StepStats {
         self.rhs_evals += o.rhs_evals;
         self.jacobian_evals += o.jacobian_evals;
         self.lu_decompositions += o.lu_decompositions;
+        self.to_implicit += o.to_implicit;
+        self.to_explicit += o.to_explicit;
     }
 }
 
@@ -108,10 +114,76 @@ pub struct Integrated<const D: usize> {
     pub h_next: f64,
 }
 
+/// How a stepper left a piece: at its end, or early at an accepted step because the automatic
+/// method should change stepper there.
+pub(crate) enum Reached<const D: usize> {
+    /// The end of the piece.
+    End(Integrated<D>),
+    /// An accepted step at `t` with state `y` and proposed next step `h`.
+    Switch {
+        /// Time, s.
+        t: f64,
+        /// State.
+        y: SVector<f64, D>,
+        /// Proposed next step, s.
+        h: f64,
+    },
+}
+
+/// Declares a built-in method: the struct (tolerances and step budget), `new(rtol, atol)` and
+/// its [`Integrator`] implementation, which hands a piece to `$run(&self, sys, (t0, y0, t1,
+/// h0), t_out, out, stats)` — a stepper function returning [`Reached`].
+macro_rules! integrator {
+    ($(#[$doc:meta])* $ty:ident, $name:expr, $run:path) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $ty {
+            /// Tolerances.
+            pub tol: $crate::ode::Tolerances,
+            /// Step budget per [`integrate`]($crate::Integrator::integrate) call.
+            pub max_steps: u64,
+        }
+
+        impl $ty {
+            /// With relative and absolute tolerances.
+            pub fn new(rtol: f64, atol: f64) -> Self {
+                Self { tol: $crate::ode::Tolerances { rtol, atol }, max_steps: 2_000_000 }
+            }
+        }
+
+        impl $crate::ode::Integrator for $ty {
+            fn name(&self) -> &'static str {
+                $name
+            }
+            fn tolerances(&self) -> $crate::ode::Tolerances {
+                self.tol
+            }
+            fn integrate<const D: usize, S: $crate::ode::OdeSystem<D>>(
+                &self,
+                sys: &S,
+                t0: f64,
+                y0: nalgebra::SVector<f64, D>,
+                t1: f64,
+                h0: f64,
+                t_out: &[f64],
+                out: &mut impl FnMut(f64, &nalgebra::SVector<f64, D>),
+                stats: &mut $crate::ode::StepStats,
+            ) -> Result<$crate::ode::Integrated<D>, $crate::ode::IntegrationError> {
+                match $run(self, sys, (t0, y0, t1, h0), t_out, out, stats)? {
+                    $crate::ode::Reached::End(i) => Ok(i),
+                    $crate::ode::Reached::Switch { .. } => unreachable!("only the automatic method switches"),
+                }
+            }
+        }
+    };
+}
+pub(crate) use integrator;
+
 /// A time-stepping method. The same problem runs unchanged under any integrator.
 ///
-/// Implementations: [`Dopri5`](crate::Dopri5) (explicit) and [`Rodas4`](crate::Rodas4)
-/// (implicit, exact Jacobian).
+/// Implementations: [`Auto`](crate::Auto) (the default: Tsit5 while non-stiff, Rodas5P where
+/// stiff), [`Tsit5`](crate::Tsit5) and [`Dopri5`](crate::Dopri5) (explicit), and
+/// [`Rodas5P`](crate::Rodas5P) and [`Rodas4`](crate::Rodas4) (implicit, exact Jacobian).
 pub trait Integrator {
     /// Method name for output, e.g. `"dopri5"`.
     fn name(&self) -> &'static str;
@@ -238,7 +310,7 @@ pub(crate) fn h_min(t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Dopri5, Rodas4};
+    use crate::{Auto, Dopri5, Rodas4, Rodas5P, Tsit5};
 
     /// y1' = y2, y2' = −y1 (harmonic oscillator, exact solution cos/sin), plus a stiff
     /// decaying component y3' = −λ (y3 − cos t)… kept autonomous by carrying t as y4.
@@ -292,6 +364,12 @@ mod tests {
             for rtol in [1e-5, 1e-7, 1e-9] {
                 let (e_d, d_d, s_d) = run(&Dopri5::new(rtol, rtol), lambda, &t_out);
                 let (e_r, d_r, s_r) = run(&Rodas4::new(rtol, rtol), lambda, &t_out);
+                let (e_t, d_t, _) = run(&Tsit5::new(rtol, rtol), lambda, &t_out);
+                let (e_p, d_p, _) = run(&Rodas5P::new(rtol, rtol), lambda, &t_out);
+                let (e_a, d_a, _) = run(&Auto::new(rtol, rtol), lambda, &t_out);
+                for (name, e, d) in [("tsit5", e_t, d_t), ("rodas5p", e_p, d_p), ("auto", e_a, d_a)] {
+                    assert!(e < 200.0 * rtol && d < 500.0 * rtol, "{name} λ={lambda} rtol={rtol}: {e:e} {d:e}");
+                }
                 assert!(e_d < 200.0 * rtol && e_r < 200.0 * rtol, "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}");
                 assert!(
                     d_d < 500.0 * rtol && d_r < 500.0 * rtol,
@@ -328,11 +406,63 @@ mod tests {
             }
             (y - exact(2.0)).amax()
         }
-        let d = Dopri5::new(1.0, 1.0);
-        let r = Rodas4::new(1.0, 1.0);
-        let pd = (fixed(&d, 20) / fixed(&d, 40)).log2();
-        let pr = (fixed(&r, 20) / fixed(&r, 40)).log2();
+        let order = |e20: f64, e40: f64| (e20 / e40).log2();
+        let pd = order(fixed(&Dopri5::new(1.0, 1.0), 20), fixed(&Dopri5::new(1.0, 1.0), 40));
+        let pt = order(fixed(&Tsit5::new(1.0, 1.0), 20), fixed(&Tsit5::new(1.0, 1.0), 40));
+        let pr = order(fixed(&Rodas4::new(1.0, 1.0), 20), fixed(&Rodas4::new(1.0, 1.0), 40));
+        let p5 = order(fixed(&Rodas5P::new(1.0, 1.0), 20), fixed(&Rodas5P::new(1.0, 1.0), 40));
+        println!("observed orders: dopri5 {pd:.2}, tsit5 {pt:.2}, rodas4 {pr:.2}, rodas5p {p5:.2}");
         assert!((pd - 5.0).abs() < 0.4, "dopri5 order {pd}");
+        assert!((pt - 5.0).abs() < 0.4, "tsit5 order {pt}");
         assert!((pr - 4.0).abs() < 0.4, "rodas4 order {pr}");
+        assert!((p5 - 5.0).abs() < 0.4, "rodas5p order {p5}");
+    }
+
+    /// Prothero–Robinson: y' = λ (y − cos t) − sin t with λ = −1e6, exact solution cos t. A
+    /// Rosenbrock method of stage order 1 loses order here at tight tolerances (its error
+    /// stalls while the steps multiply); Rodas5P was built not to. Measured as the error
+    /// reached per step count between rtol 1e-7 and 1e-10.
+    #[test]
+    fn rodas5p_keeps_its_order_on_prothero_robinson() {
+        let lambda = 1e6;
+        let t_out: Vec<f64> = (1..100).map(|i| i as f64 * 0.1).collect();
+        let mut rows = vec![];
+        for rtol in [1e-7, 1e-10] {
+            let (e4, d4, s4) = run(&Rodas4::new(rtol, rtol), lambda, &t_out);
+            let (e5, d5, s5) = run(&Rodas5P::new(rtol, rtol), lambda, &t_out);
+            println!(
+                "rtol {rtol:e}: rodas4 err {e4:.2e} dense {d4:.2e} in {} steps; rodas5p err {e5:.2e} dense {d5:.2e} in {} steps",
+                s4.accepted, s5.accepted
+            );
+            rows.push(((e4.max(d4), s4.accepted as f64), (e5.max(d5), s5.accepted as f64)));
+            // tolerances that mean what they say: the error within 100× of rtol
+            assert!(e5.max(d5) < 100.0 * rtol, "rodas5p at rtol {rtol:e}: error {:e}", e5.max(d5));
+        }
+        // effective order: −Δ ln(error) / Δ ln(steps)
+        let eff = |a: (f64, f64), b: (f64, f64)| -(b.0 / a.0).ln() / (b.1 / a.1).ln();
+        let (p4, p5) = (eff(rows[0].0, rows[1].0), eff(rows[0].1, rows[1].1));
+        println!("effective orders on Prothero–Robinson: rodas4 {p4:.2}, rodas5p {p5:.2}");
+        assert!(p5 > 3.5, "rodas5p effective order {p5}");
+        // Rodas5P needs fewer steps than Rodas4 at the tight tolerance
+        assert!(rows[1].1.1 < rows[1].0.1, "rodas5p {} vs rodas4 {} steps", rows[1].1.1, rows[1].0.1);
+    }
+
+    /// The automatic method stays explicit on a non-stiff problem and switches to the implicit
+    /// stepper on a stiff one, where it then needs far fewer steps than the explicit method
+    /// alone — with the same accuracy.
+    #[test]
+    fn auto_switches_only_when_stiff() {
+        let t_out: Vec<f64> = (1..1000).map(|i| i as f64 * 0.01).collect();
+        let (e, d, s) = run(&Auto::new(1e-9, 1e-9), 1.0, &t_out);
+        let (_, _, st) = run(&Tsit5::new(1e-9, 1e-9), 1.0, &t_out);
+        assert_eq!((s.to_implicit, s.to_explicit), (0, 0), "non-stiff: {s:?}");
+        assert_eq!(s.accepted, st.accepted, "non-stiff: auto is tsit5");
+        assert!(e.max(d) < 1e-7);
+        let (e, d, s) = run(&Auto::new(1e-9, 1e-9), 1e4, &t_out);
+        let (_, _, st) = run(&Tsit5::new(1e-9, 1e-9), 1e4, &t_out);
+        println!("stiff: auto {s:?}\n       tsit5 {st:?}");
+        assert!(s.to_implicit >= 1, "stiff: {s:?}");
+        assert!(s.accepted * 3 < st.accepted, "auto {} vs tsit5 {} steps", s.accepted, st.accepted);
+        assert!(e.max(d) < 1e-6, "auto error {e:e}, dense {d:e}");
     }
 }

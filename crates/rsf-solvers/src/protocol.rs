@@ -145,7 +145,7 @@ struct RawSolver {
 }
 
 /// Default solver settings.
-pub const DEFAULT_METHOD: &str = "implicit";
+pub const DEFAULT_METHOD: &str = "auto";
 /// Default relative tolerance.
 pub const DEFAULT_RTOL: f64 = 1e-9;
 /// Default absolute tolerance (µm of slip).
@@ -383,7 +383,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         err(
             method_span.as_ref(),
             "solver.method",
-            format!("unknown method `{method_name}`; use \"implicit\" or \"explicit\""),
+            format!("unknown method `{method_name}`; use one of {}", Method::NAMES.join(", ")),
         )
     })?;
     let problem = Problem { model, loading, v_init, output, max_slip_rate: vmax };

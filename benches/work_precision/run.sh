@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Work–precision diagrams of rsf's integrators beside scipy's (Radau, LSODA, DOP853) on four
+# cases; run from the repository root:  bash benches/work_precision/run.sh [REPEATS]
+# Needs python3 with numpy, scipy and matplotlib (PY=/path/to/python to choose one), e.g.
+#   python3 -m venv /tmp/wpvenv && /tmp/wpvenv/bin/pip install numpy scipy matplotlib
+#   PY=/tmp/wpvenv/bin/python bash benches/work_precision/run.sh
+# Writes docs/figures/work_precision_<case>.svg and docs/figures/work_precision.md; the
+# numbers quoted in docs/BENCHMARKS.md and docs/solvers.md come from this run.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+PY=${PY:-python3}
+REPEATS=${1:-5}
+OUT=${WP_OUT:-target/work_precision}
+cargo build --release -q -p rsf-solvers --example work_precision
+target/release/examples/work_precision "$OUT" --repeats "$REPEATS"
+pairs=()
+for c in seed hold stickslip two_state; do
+  "$PY" benches/work_precision/peers.py "$OUT/$c.json" "$OUT/${c}_peers.json" --repeats "$REPEATS"
+  pairs+=("$OUT/${c}_rsf.json" "$OUT/${c}_peers.json")
+done
+"$PY" benches/work_precision/plot.py docs/figures "${pairs[@]}"
+# the whole `rsf simulate` process (start, TOML, solve, CSV) on the seed-like protocol of 71
+# segments with output every 50 s (rtol 1e-8, atol 1e-12, method auto), median of 21 runs,
+# against scipy Radau's solve of the same protocol at rtol 1e-8 from the peers run above
+cargo build --release -q -p rsf-cli
+for _ in $(seq 21); do
+  s=$(date +%s%N); target/release/rsf simulate "$OUT/seed.toml" -o "$OUT/seed.csv" > /dev/null; e=$(date +%s%N)
+  echo $(( (e - s) / 1000 ))
+done | sort -n | sed -n 11p > "$OUT/process_us.txt"
+"$PY" - "$OUT" <<'PYEOF'
+import json, sys
+out = sys.argv[1]
+us = int(open(f"{out}/process_us.txt").read())
+runs = json.load(open(f"{out}/seed_peers.json"))["runs"]
+radau = [r for r in runs if r["method"] == "Radau" and abs(r["rtol"] - 1e-8) < 1e-20 and "wall_s" in r][0]["wall_s"]
+print(f"rsf simulate process (seed.toml, median of 21): {us / 1e3:.2f} ms; scipy Radau solve at rtol 1e-8: "
+      f"{radau * 1e3:.0f} ms; ratio {radau / (us / 1e6):.0f}x")
+PYEOF

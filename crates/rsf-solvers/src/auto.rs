@@ -1,0 +1,64 @@
+//! The automatic method: Tsit5 while the problem is non-stiff, Rodas5P where it is stiff.
+//!
+//! Lab spring-sliders are mostly non-stiff (in log variables the Jacobian is V times a fixed
+//! matrix, so its time scales follow slip, not time), but long holds on stiff machines,
+//! radiation-damped stick-slip and the approach to a blow-up are not. The explicit stepper
+//! watches h·ρ(J) through Hairer's free estimate ‖k7 − k6‖/‖y1 − y6‖ and hands over after
+//! `STIFF_STEPS` stiff steps in a row; the implicit stepper, which has J anyway, hands back
+//! after `NONSTIFF_STEPS` steps that an explicit method could take stably. The two counts are
+//! the hysteresis that keeps it from flipping. Every piece (load-point segment) starts
+//! explicit; the switches are counted in [`StepStats`].
+
+use crate::erk;
+use crate::ode::{IntegrationError, OdeSystem, Reached, StepStats};
+use crate::rosenbrock;
+use crate::tableau::rodas5p::RODAS5P;
+use crate::tsit5::Tsit5;
+use nalgebra::SVector;
+
+crate::ode::integrator!(
+    /// Automatic stiffness switching between [`Tsit5`] and [`Rodas5P`](crate::Rodas5P): the
+    /// default. The step budget counts both steppers' steps.
+    Auto,
+    "auto",
+    run
+);
+
+/// One piece: Tsit5 until it finds the problem stiff, Rodas5P until it finds it non-stiff, …
+fn run<const D: usize, S: OdeSystem<D>>(
+    m: &Auto,
+    sys: &S,
+    (t0, y0, t1, h0): (f64, SVector<f64, D>, f64, f64),
+    t_out: &[f64],
+    out: &mut impl FnMut(f64, &SVector<f64, D>),
+    stats: &mut StepStats,
+) -> Result<Reached<D>, IntegrationError> {
+    let used = |s: &StepStats| s.accepted + s.rejected;
+    let start = used(stats);
+    let (mut t, mut y, mut h, mut explicit) = (t0, y0, h0, true);
+    loop {
+        let budget = m.max_steps.saturating_sub(used(stats) - start).max(1);
+        let rest = &t_out[t_out.partition_point(|&x| x <= t)..];
+        let piece = (t, y, t1, h);
+        let reached = if explicit {
+            erk::integrate::<Tsit5, D, S>((&m.tol, budget), sys, piece, rest, out, stats, true)
+        } else {
+            rosenbrock::integrate(&RODAS5P, (&m.tol, budget), sys, piece, rest, out, stats, true)
+        };
+        match reached.map_err(|e| match e {
+            // the budget is the whole call's, not the last stepper's
+            IntegrationError::TooManySteps { t, .. } => IntegrationError::TooManySteps { t, steps: m.max_steps },
+            e => e,
+        })? {
+            Reached::End(i) => return Ok(Reached::End(i)),
+            Reached::Switch { t: ts, y: ys, h: hs } => {
+                if explicit {
+                    stats.to_implicit += 1;
+                } else {
+                    stats.to_explicit += 1;
+                }
+                (t, y, h, explicit) = (ts, ys, hs, !explicit);
+            }
+        }
+    }
+}

@@ -1,0 +1,52 @@
+//! Tsitouras 5(4): the explicit default of the automatic method. Coefficients in
+//! `tableau/tsit5.rs`; the step loop is `erk.rs`, shared with Dopri5.
+//!
+//! Chosen over Dopri5 because its error coefficients are smaller for the same order (the
+//! pair satisfies only the first column simplifying assumption, which frees parameters to
+//! minimise the principal error), so it takes fewer steps at the same tolerance; the measured
+//! gain on rsf's problems is in docs/BENCHMARKS.md.
+
+use crate::erk::{ExplicitPair, integrate};
+use crate::ode::{IntegrationError, OdeSystem, Reached, StepStats};
+use crate::tableau::tsit5::{A, E, R};
+use nalgebra::SVector;
+
+crate::ode::integrator!(
+    /// Explicit Tsitouras 5(4) with its free 4th-order dense output, for non-stiff problems.
+    Tsit5,
+    "tsit5",
+    run
+);
+
+/// One piece with the shared explicit stepper.
+fn run<const D: usize, S: OdeSystem<D>>(
+    m: &Tsit5,
+    sys: &S,
+    piece: (f64, SVector<f64, D>, f64, f64),
+    t_out: &[f64],
+    out: &mut impl FnMut(f64, &SVector<f64, D>),
+    stats: &mut StepStats,
+) -> Result<Reached<D>, IntegrationError> {
+    integrate::<Tsit5, D, S>((&m.tol, m.max_steps), sys, piece, t_out, out, stats, false)
+}
+
+impl ExplicitPair for Tsit5 {
+    const A: [[f64; 6]; 6] = A;
+    const E: [f64; 7] = E;
+
+    fn dense<const D: usize>(
+        k: &[SVector<f64, D>; 7],
+        y0: &SVector<f64, D>,
+        _y1: &SVector<f64, D>,
+        h: f64,
+    ) -> impl Fn(f64) -> SVector<f64, D> {
+        let (k, y0) = (*k, *y0);
+        move |s: f64| {
+            let mut acc = SVector::<f64, D>::zeros();
+            for (ki, r) in k.iter().zip(&R) {
+                acc += ki * (s * (r[0] + s * (r[1] + s * (r[2] + s * r[3]))));
+            }
+            y0 + acc * h
+        }
+    }
+}
