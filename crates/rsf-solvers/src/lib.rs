@@ -42,6 +42,7 @@
 mod auto;
 mod dopri5;
 mod erk;
+mod large;
 mod lu;
 mod ode;
 pub mod protocol;
@@ -54,6 +55,7 @@ mod tsit5;
 
 pub use auto::Auto;
 pub use dopri5::Dopri5;
+pub use large::{Flow, LargeSystem, LargeTsit5};
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;

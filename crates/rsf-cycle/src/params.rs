@@ -1,0 +1,123 @@
+//! The BP1-QD parameters (SEAS Benchmark Problem BP1-QD, Erickson & Jiang, 2018), SI units.
+
+/// Parameters of the benchmark.
+#[derive(Clone, Debug)]
+pub struct Bp1 {
+    /// Density ρ, kg/m³.
+    pub rho: f64,
+    /// Shear-wave speed c_s, m/s.
+    pub cs: f64,
+    /// Effective normal stress σ_n, Pa.
+    pub sigma: f64,
+    /// a in the shallow velocity-weakening region.
+    pub a0: f64,
+    /// a in the deep velocity-strengthening region.
+    pub a_max: f64,
+    /// b (uniform).
+    pub b0: f64,
+    /// Critical slip distance D_c, m.
+    pub dc: f64,
+    /// Plate rate V_p, m/s.
+    pub vp: f64,
+    /// Initial slip rate, m/s.
+    pub v_init: f64,
+    /// Reference slip rate V_0, m/s.
+    pub v0: f64,
+    /// Reference friction f_0.
+    pub f0: f64,
+    /// Depth of the uniform velocity-weakening region H, m.
+    pub h: f64,
+    /// Width of the transition to velocity strengthening, m.
+    pub h_trans: f64,
+    /// Depth of the rate-and-state fault W_f, m.
+    pub wf: f64,
+}
+
+impl Default for Bp1 {
+    fn default() -> Self {
+        Self {
+            rho: 2670.0,
+            cs: 3464.0,
+            sigma: 50e6,
+            a0: 0.010,
+            a_max: 0.025,
+            b0: 0.015,
+            dc: 0.008,
+            vp: 1e-9,
+            v_init: 1e-9,
+            v0: 1e-6,
+            f0: 0.6,
+            h: 15e3,
+            h_trans: 3e3,
+            wf: 40e3,
+        }
+    }
+}
+
+impl Bp1 {
+    /// Shear modulus μ = ρ c_s², Pa.
+    pub fn mu(&self) -> f64 {
+        self.rho * self.cs * self.cs
+    }
+    /// Radiation damping η = μ / (2 c_s) = ρ c_s / 2, Pa s/m.
+    pub fn eta(&self) -> f64 {
+        self.mu() / (2.0 * self.cs)
+    }
+    /// a(z): a0 above H, linear to a_max over the transition, a_max below.
+    pub fn a(&self, z: f64) -> f64 {
+        if z < self.h {
+            self.a0
+        } else if z < self.h + self.h_trans {
+            self.a0 + (self.a_max - self.a0) * (z - self.h) / self.h_trans
+        } else {
+            self.a_max
+        }
+    }
+    /// The uniform pre-stress τ0: steady state at V_init with a = a_max, plus η V_init, Pa.
+    pub fn tau0(&self) -> f64 {
+        let (am, b) = (self.a_max, self.b0);
+        let l = (self.v_init / (2.0 * self.v0)).ln() + (self.f0 + b * (self.v0 / self.v_init).ln()) / am;
+        self.sigma * am * l.exp().asinh() + self.eta() * self.v_init
+    }
+    /// The initial ln θ at depth z (the benchmark's depth-dependent, not steady, state), ln s.
+    pub fn ln_theta_init(&self, z: f64) -> f64 {
+        let a = self.a(z);
+        let s = (self.tau0() - self.eta() * self.v_init) / (a * self.sigma);
+        // ln sinh(s) without overflow: s + ln((1 − e^(−2s))/2)
+        let ln_sinh = s + (0.5 * (-(-2.0 * s).exp_m1())).ln();
+        (self.dc / self.v0).ln() + (a / self.b0) * ((2.0 * self.v0 / self.v_init).ln() + ln_sinh) - self.f0 / self.b0
+    }
+    /// Quasi-static process zone Λ0 = μ D_c / (b σ_n), m (the cell size must resolve it).
+    pub fn process_zone(&self) -> f64 {
+        self.mu() * self.dc / (self.b0 * self.sigma)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The derived numbers of the specification: μ 32.04 GPa, η 4.624 MPa s/m, τ0 26.546 MPa,
+    /// Λ0 342 m; and the initial state balances τ0 at V_init at every depth.
+    #[test]
+    fn derived_numbers_match_the_specification() {
+        let p = Bp1::default();
+        assert!((p.mu() / 1e9 - 32.04).abs() < 0.01);
+        assert!((p.eta() / 1e6 - 4.624).abs() < 0.001);
+        assert!((p.tau0() / 1e6 - 26.546).abs() < 0.001, "{}", p.tau0());
+        assert!((p.process_zone() - 342.0).abs() < 1.0);
+        for z in [0.0, 10e3, 16e3, 30e3] {
+            let psi = rsf_core::element::psi_term(p.b0, p.v0, p.dc, 1.0, p.ln_theta_init(z));
+            let f = rsf_core::element::friction(
+                rsf_core::FrictionForm::Regularized,
+                p.f0,
+                p.a(z),
+                p.v0,
+                p.v_init.ln(),
+                psi,
+            );
+            let tau = p.sigma * f.value + p.eta() * p.v_init;
+            assert!((tau - p.tau0()).abs() < 1e-3, "z {z}: {tau} vs {}", p.tau0());
+        }
+    }
+}
