@@ -295,7 +295,11 @@ dt = 0.02           # s; optional for a record (default: the record's own times)
 method = \"auto\"     # \"auto\" (Tsit5, switching to Rodas5P where stiff) | \"tsit5\" | \"dopri5\" | \"rodas5p\" | \"rodas4\"
 rtol = 1e-9         # relative error per step in V and theta
 atol = 1e-12        # absolute error in slip, µm
-max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error";
+max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error
+
+# [initial]         # optional: start off steady state instead of at loading.v_init
+# v = 0.9e-3        # µm/s
+# theta = [8e6]     # s, one per state variable";
 
 fn main() {
     let cli = Cli::parse();

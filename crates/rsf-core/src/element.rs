@@ -227,18 +227,23 @@ pub fn solve_slip_rate(
     Err(SlipRateError::NotConverged)
 }
 
+/// The aging law for this crate's tests (the laws themselves live in rsf-laws, downstream).
+#[cfg(test)]
+#[derive(Debug, Clone)]
+pub(crate) struct TestAging;
+
+#[cfg(test)]
+impl StateLaw for TestAging {
+    fn theta_rate<R: crate::Real>(&self, s: &StateArgs<R>) -> R {
+        R::from(1.0) - s.v * s.theta / s.dc
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::TestAging as Aging;
     use super::*;
     use crate::{Model, StateVariable};
-
-    #[derive(Debug, Clone)]
-    struct Aging;
-    impl StateLaw for Aging {
-        fn theta_rate<R: crate::Real>(&self, s: &StateArgs<R>) -> R {
-            R::from(1.0) - s.v * s.theta / s.dc
-        }
-    }
 
     /// The kernels agree with the model's own friction and with finite differences.
     #[test]

@@ -43,6 +43,7 @@
 //! assert!((mu - (0.6 + (0.01 - 0.015) * 10f64.ln())).abs() < 1e-14);
 //! ```
 
+pub mod batch;
 pub mod element;
 mod friction;
 mod law;

@@ -47,6 +47,7 @@ pub fn run(
         model: model.clone(),
         loading: Loading::Segments(segments),
         v_init,
+        initial_theta: None,
         output: OutputTimes::Times(times),
         max_slip_rate: 1e9,
     };

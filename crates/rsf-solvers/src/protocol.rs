@@ -86,6 +86,16 @@ struct RawFile {
     loading: S<RawLoading>,
     output: Option<S<RawOutput>>,
     solver: Option<RawSolver>,
+    initial: Option<S<RawInitial>>,
+}
+
+/// `[initial]`: start off steady state, at slip rate `v` (µm/s) with state `theta` (s, one per
+/// state variable), instead of steady state at `loading.v_init`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawInitial {
+    v: S<f64>,
+    theta: S<Vec<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -348,6 +358,28 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         }
     };
 
+    // ---- initial state
+    let (v_init, initial_theta) = match &raw.initial {
+        None => (v_init, None),
+        Some(ini) => {
+            let ini = ini.get_ref();
+            let v = *ini.v.get_ref();
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(err(Some(&ini.v.span()), "initial.v", format!("{v} must be positive and finite (µm/s)")));
+            }
+            let theta = ini.theta.get_ref().clone();
+            let n = model.states.len();
+            if theta.len() != n || theta.iter().any(|t| !(*t > 0.0 && t.is_finite())) {
+                return Err(err(
+                    Some(&ini.theta.span()),
+                    "initial.theta",
+                    format!("needs {n} positive, finite values (s), one per state variable (got {theta:?})"),
+                ));
+            }
+            (v, Some(theta))
+        }
+    };
+
     // ---- solver
     let (mut method_name, mut rtol, mut atol, mut vmax) = (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
     let mut method_span = None;
@@ -386,7 +418,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             format!("unknown method `{method_name}`; use one of {}", Method::NAMES.join(", ")),
         )
     })?;
-    let problem = Problem { model, loading, v_init, output, max_slip_rate: vmax };
+    let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax };
     Ok(Protocol { problem, method, measured_friction })
 }
 

@@ -48,8 +48,11 @@ pub struct Problem {
     pub model: Model,
     /// How the load point moves.
     pub loading: Loading,
-    /// The system starts in steady state at this slip rate, µm/s.
+    /// The system starts at this slip rate, µm/s — in steady state unless `initial_theta`.
     pub v_init: f64,
+    /// θ_i (s) to start from instead of the steady state at `v_init` (off-steady initial
+    /// conditions: a perturbed start, or a cycle model's own state); `None`: steady state.
+    pub initial_theta: Option<Vec<f64>>,
     /// Output sampling.
     pub output: OutputTimes,
     /// Slip rate (µm/s) beyond which the run stops with a blow-up error. Default 1e9 µm/s
@@ -60,8 +63,30 @@ pub struct Problem {
 impl Problem {
     /// A problem sampled every `dt` seconds.
     pub fn new(model: Model, loading: Loading, v_init: f64, dt: f64) -> Self {
-        Self { model, loading, v_init, output: OutputTimes::Every(dt), max_slip_rate: 1e9 }
+        Self { model, loading, v_init, initial_theta: None, output: OutputTimes::Every(dt), max_slip_rate: 1e9 }
     }
+}
+
+/// The state vector (ln V, ln θ_i, slip) a problem starts from: steady state at `v_init`, or
+/// `v_init` with the given `initial_theta`.
+pub fn initial_state(problem: &Problem) -> Result<Vec<f64>, SolveError> {
+    let mut y = SpringSlider::steady_state(&problem.model, problem.v_init)?;
+    if let Some(theta) = &problem.initial_theta {
+        let n = problem.model.states.len();
+        if theta.len() != n {
+            return Err(SolveError::Input(format!("initial theta has {} values for {n} state variables", theta.len())));
+        }
+        for (i, &th) in theta.iter().enumerate() {
+            if !(th > 0.0 && th.is_finite()) {
+                return Err(SolveError::Input(format!(
+                    "initial theta {} = {th} must be positive and finite (s)",
+                    i + 1
+                )));
+            }
+            y[1 + i] = th.ln();
+        }
+    }
+    Ok(y)
 }
 
 /// Why a forward solve failed. Messages name the parameter, or the time and values reached.
@@ -337,8 +362,7 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         method: alg.name().to_string(),
         tolerances: Some(tol),
     };
-    let y_init = SpringSlider::steady_state(model, problem.v_init)?;
-    let y = SVector::<f64, D>::from_column_slice(&y_init);
+    let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
 
     let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
         sol.time.push(t);
@@ -482,7 +506,7 @@ fn friction_dim<const D: usize, I: Integrator>(
     model.validate()?;
     let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
     let t_out = output_times(problem, &pieces)?;
-    let y = SVector::<f64, D>::from_column_slice(&SpringSlider::steady_state(model, problem.v_init)?);
+    let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
     let classic = model.form == rsf_core::FrictionForm::Classic;
     // τ = c + a x + Σ b_i z_i + η e^x + g δ
     let lv0 = model.v0.ln();

@@ -113,3 +113,30 @@ fn record_errors_name_line_and_column() {
     assert_eq!(sol.load_point, vec![0.0, 30.0, 30.0, 31.0]);
     assert!(sol.slip_rate[2] < 0.1, "the hold between 20 and 30 s relaxes V");
 }
+
+/// `[initial]` starts off steady state: at t = 0 the slip rate and θ are the given ones, and a
+/// bad table names its field.
+#[test]
+fn an_initial_state_off_steady_state() {
+    let text = format!("{GOOD}\n[initial]\nv = 0.5\ntheta = [10.0]\n");
+    let p = parse(&text, None, "p.toml").unwrap();
+    let sol = p.method.solve(&p.problem).unwrap();
+    assert!(
+        (sol.slip_rate[0] - 0.5).abs() < 1e-12 && (sol.theta[0][0] - 10.0).abs() < 1e-9,
+        "{} {}",
+        sol.slip_rate[0],
+        sol.theta[0][0]
+    );
+    // steady state at 3 µm/s would have θ = Dc/V = 0.69 s
+    let steady =
+        parse(GOOD, None, "p.toml").unwrap().method.solve(&parse(GOOD, None, "p.toml").unwrap().problem).unwrap();
+    assert!((steady.theta[0][0] - 2.07 / 3.0).abs() < 1e-9);
+    for (tail, needle) in [
+        ("[initial]\nv = 0.5\ntheta = [10.0, 3.0]\n", "initial.theta"),
+        ("[initial]\nv = -1\ntheta = [10.0]\n", "initial.v"),
+    ] {
+        let Err(e) = parse(&format!("{GOOD}\n{tail}"), None, "p.toml") else { panic!("`{tail}` was accepted") };
+        let e = e.to_string();
+        assert!(e.contains(needle), "{e}");
+    }
+}

@@ -1,0 +1,405 @@
+//! # rsf-capi — the C ABI of rsf's per-element kernels
+//!
+//! For fault-simulation codes in C, C++ and Fortran (`iso_c_binding`): friction with its
+//! partials, the state contribution, the state rate in log form and the slip-rate solve of the
+//! quasi-dynamic balance, one element at a time or over caller-owned arrays. The header
+//! `include/rsf.h` is generated from this file by cbindgen (`crates/rsf-capi/cbindgen.toml`);
+//! a test checks that the committed header is what cbindgen makes of this source.
+//!
+//! Conventions (docs/faultsim.md): laws and friction forms are integer ids; parameters travel
+//! in flat structs whose first field is `RSF_ABI_VERSION`; every function returns an
+//! `RsfStatus` (0 = success) and never unwinds into C (a panic becomes `RSF_INTERNAL`);
+//! `rsf_last_error` gives the message of the calling thread's last failure. Variables are
+//! logs: `ln_v = ln V`, `ln_theta = ln θ`; units are the host's own (V, V0 and Dc consistent).
+
+use rsf_core::FrictionForm;
+use rsf_core::element::{SlipRateError, friction, ln_theta_rate, psi_term, solve_slip_rate};
+use rsf_laws::{Aging, KatoTullis, Prz, Slip};
+use std::cell::RefCell;
+use std::ffi::{CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// Version of the parameter structs; a struct with another `version` is refused.
+pub const RSF_ABI_VERSION: u32 = 1;
+
+/// Outcome of every call.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RsfStatus {
+    /// Success.
+    RsfOk = 0,
+    /// A null pointer, a non-finite input, a bad count or a struct of another version.
+    RsfBadInput = 1,
+    /// An unknown law or friction-form id.
+    RsfUnknownId = 2,
+    /// No slip rate balances the stress.
+    RsfNoRoot = 3,
+    /// The slip-rate iteration did not converge.
+    RsfNotConverged = 4,
+    /// A bug in rsf (a caught panic): please report it.
+    RsfInternal = 5,
+}
+
+/// State-evolution laws by id.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RsfLaw {
+    /// Aging (Dieterich): dθ/dt = 1 − Vθ/Dc.
+    RsfLawAging = 0,
+    /// Slip (Ruina): dθ/dt = −(Vθ/Dc) ln(Vθ/Dc).
+    RsfLawSlip = 1,
+    /// Kato–Tullis composite with cut-off velocity `vc`.
+    RsfLawKatoTullis = 2,
+    /// Perrin–Rice–Zheng: dθ/dt = 1 − (Vθ/(2Dc))².
+    RsfLawPrz = 3,
+}
+
+/// Friction forms by id.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RsfForm {
+    /// f = f0 + a ln(V/V0) + Ψ.
+    RsfFormClassic = 0,
+    /// f = a asinh(V/(2V0) exp((f0 + Ψ)/a)) (SEAS benchmarks).
+    RsfFormRegularized = 1,
+}
+
+/// Friction parameters of one element.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct RsfFrictionParams {
+    /// `RSF_ABI_VERSION`.
+    pub version: u32,
+    /// An `RsfForm` id.
+    pub form: i32,
+    /// Reference friction f0.
+    pub f0: f64,
+    /// Direct-effect parameter a.
+    pub a: f64,
+    /// Reference slip rate V0.
+    pub v0: f64,
+}
+
+/// One state variable of one element.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct RsfStateParams {
+    /// `RSF_ABI_VERSION`.
+    pub version: u32,
+    /// An `RsfLaw` id.
+    pub law: i32,
+    /// Evolution-effect parameter b.
+    pub b: f64,
+    /// Characteristic slip distance Dc.
+    pub dc: f64,
+    /// Cut-off velocity (Kato–Tullis only; ignored otherwise).
+    pub vc: f64,
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn fail(status: RsfStatus, msg: String) -> RsfStatus {
+    LAST_ERROR.with(|e| *e.borrow_mut() = CString::new(msg.replace('\0', " ")).unwrap_or_default());
+    status
+}
+
+/// Runs `f`, turning a panic into `RSF_INTERNAL`.
+fn guard(f: impl FnOnce() -> RsfStatus) -> RsfStatus {
+    catch_unwind(AssertUnwindSafe(f))
+        .unwrap_or_else(|_| fail(RsfStatus::RsfInternal, "internal error in rsf (a caught panic)".into()))
+}
+
+fn form_of(p: &RsfFrictionParams) -> Result<FrictionForm, RsfStatus> {
+    if p.version != RSF_ABI_VERSION {
+        return Err(fail(
+            RsfStatus::RsfBadInput,
+            format!("RsfFrictionParams.version {} (expected {RSF_ABI_VERSION})", p.version),
+        ));
+    }
+    if ![p.f0, p.a, p.v0].iter().all(|x| x.is_finite()) || p.a <= 0.0 || p.v0 <= 0.0 {
+        return Err(fail(
+            RsfStatus::RsfBadInput,
+            format!("friction parameters need finite f0, a > 0, v0 > 0 (got {p:?})"),
+        ));
+    }
+    match p.form {
+        0 => Ok(FrictionForm::Classic),
+        1 => Ok(FrictionForm::Regularized),
+        id => Err(fail(RsfStatus::RsfUnknownId, format!("unknown friction form id {id} (0 classic, 1 regularized)"))),
+    }
+}
+
+/// Calls `f` with the law of `s`, after checking it.
+fn with_law<T>(s: &RsfStateParams, f: impl FnOnce(&dyn Fn(f64, f64) -> f64, f64) -> T) -> Result<T, RsfStatus> {
+    if s.version != RSF_ABI_VERSION {
+        return Err(fail(
+            RsfStatus::RsfBadInput,
+            format!("RsfStateParams.version {} (expected {RSF_ABI_VERSION})", s.version),
+        ));
+    }
+    if !(s.b.is_finite() && s.dc.is_finite() && s.dc > 0.0) {
+        return Err(fail(RsfStatus::RsfBadInput, format!("state parameters need finite b and dc > 0 (got {s:?})")));
+    }
+    let (b, dc) = (s.b, s.dc);
+    Ok(match s.law {
+        0 => f(&|x, z| ln_theta_rate(&Aging, x, z, dc, b), 1.0),
+        1 => f(&|x, z| ln_theta_rate(&Slip, x, z, dc, b), 1.0),
+        2 if s.vc.is_finite() && s.vc > 0.0 => {
+            let law = KatoTullis { vc: s.vc };
+            f(&|x, z| ln_theta_rate(&law, x, z, dc, b), 1.0)
+        }
+        2 => return Err(fail(RsfStatus::RsfBadInput, format!("Kato–Tullis needs vc > 0 (got {})", s.vc))),
+        3 => f(&|x, z| ln_theta_rate(&Prz, x, z, dc, b), 2.0),
+        id => {
+            return Err(fail(
+                RsfStatus::RsfUnknownId,
+                format!("unknown law id {id} (0 aging, 1 slip, 2 kato-tullis, 3 prz)"),
+            ));
+        }
+    })
+}
+
+fn status_of(e: SlipRateError) -> RsfStatus {
+    let code = match e {
+        SlipRateError::BadInput => RsfStatus::RsfBadInput,
+        SlipRateError::NoRoot => RsfStatus::RsfNoRoot,
+        SlipRateError::NotConverged => RsfStatus::RsfNotConverged,
+    };
+    fail(code, e.to_string())
+}
+
+/// The ABI version this library implements (`RSF_ABI_VERSION`).
+#[unsafe(no_mangle)]
+pub extern "C" fn rsf_abi_version() -> u32 {
+    RSF_ABI_VERSION
+}
+
+/// The message of the calling thread's last failure (empty if none); valid until the next
+/// failing call on this thread.
+#[unsafe(no_mangle)]
+pub extern "C" fn rsf_last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// Friction f at (ln V, Ψ) and its partials ∂f/∂ln V and ∂f/∂Ψ.
+///
+/// # Safety
+/// `p` and the three outputs must be valid pointers (nulls are refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_friction(
+    p: *const RsfFrictionParams,
+    ln_v: f64,
+    psi: f64,
+    f: *mut f64,
+    df_dln_v: *mut f64,
+    df_dpsi: *mut f64,
+) -> RsfStatus {
+    guard(|| {
+        if p.is_null() || f.is_null() || df_dln_v.is_null() || df_dpsi.is_null() {
+            return fail(RsfStatus::RsfBadInput, "rsf_friction: null pointer".into());
+        }
+        let p = unsafe { &*p };
+        let form = match form_of(p) {
+            Ok(f) => f,
+            Err(s) => return s,
+        };
+        if !(ln_v.is_finite() && psi.is_finite()) {
+            return fail(RsfStatus::RsfBadInput, format!("rsf_friction: ln_v {ln_v}, psi {psi}"));
+        }
+        let r = friction(form, p.f0, p.a, p.v0, ln_v, psi);
+        unsafe {
+            (*f, *df_dln_v, *df_dpsi) = (r.value, r.d_ln_v, r.d_psi);
+        }
+        RsfStatus::RsfOk
+    })
+}
+
+/// One state variable's contribution to Ψ, b ln(V0 θ/(s Dc)), at `ln_theta` (∂/∂ln θ = b).
+///
+/// # Safety
+/// `s` and `psi` must be valid pointers (nulls are refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_psi(s: *const RsfStateParams, v0: f64, ln_theta: f64, psi: *mut f64) -> RsfStatus {
+    guard(|| {
+        if s.is_null() || psi.is_null() {
+            return fail(RsfStatus::RsfBadInput, "rsf_psi: null pointer".into());
+        }
+        let s = unsafe { &*s };
+        match with_law(s, |_, scale| psi_term(s.b, v0, s.dc, scale, ln_theta)) {
+            Ok(v) => {
+                unsafe { *psi = v };
+                RsfStatus::RsfOk
+            }
+            Err(st) => st,
+        }
+    })
+}
+
+/// d(ln θ)/dt of one state variable at (ln V, ln θ).
+///
+/// # Safety
+/// `s` and `rate` must be valid pointers (nulls are refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_ln_theta_rate(
+    s: *const RsfStateParams,
+    ln_v: f64,
+    ln_theta: f64,
+    rate: *mut f64,
+) -> RsfStatus {
+    guard(|| {
+        if s.is_null() || rate.is_null() {
+            return fail(RsfStatus::RsfBadInput, "rsf_ln_theta_rate: null pointer".into());
+        }
+        match with_law(unsafe { &*s }, |g, _| g(ln_v, ln_theta)) {
+            Ok(r) if r.is_finite() => {
+                unsafe { *rate = r };
+                RsfStatus::RsfOk
+            }
+            Ok(r) => fail(
+                RsfStatus::RsfBadInput,
+                format!("rsf_ln_theta_rate: not finite ({r}) at ln_v {ln_v}, ln_theta {ln_theta}"),
+            ),
+            Err(st) => st,
+        }
+    })
+}
+
+/// ln V with τ − ηV = σ f(V, Ψ), from the warm start `ln_v_guess`; `iterations` may be null.
+///
+/// # Safety
+/// `p` and `ln_v` must be valid pointers; `iterations` valid or null.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_solve_slip_rate(
+    p: *const RsfFrictionParams,
+    psi: f64,
+    tau: f64,
+    sigma: f64,
+    eta: f64,
+    ln_v_guess: f64,
+    ln_v: *mut f64,
+    iterations: *mut i32,
+) -> RsfStatus {
+    guard(|| {
+        if p.is_null() || ln_v.is_null() {
+            return fail(RsfStatus::RsfBadInput, "rsf_solve_slip_rate: null pointer".into());
+        }
+        let p = unsafe { &*p };
+        let form = match form_of(p) {
+            Ok(f) => f,
+            Err(s) => return s,
+        };
+        match solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau, sigma, eta, ln_v_guess) {
+            Ok(r) => {
+                unsafe {
+                    *ln_v = r.ln_v;
+                    if !iterations.is_null() {
+                        *iterations = r.iterations as i32;
+                    }
+                }
+                RsfStatus::RsfOk
+            }
+            Err(e) => status_of(e),
+        }
+    })
+}
+
+/// Over `n` elements (arrays of length n, caller-owned): friction, ∂f/∂ln V, ∂f/∂Ψ and
+/// d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]` (one state
+/// variable per element; Ψ = that state's term). Stops at the first bad element and names it.
+///
+/// # Safety
+/// Every pointer must point to `n` valid values (nulls are refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_batch_rates(
+    n: usize,
+    fp: *const RsfFrictionParams,
+    sp: *const RsfStateParams,
+    ln_v: *const f64,
+    ln_theta: *const f64,
+    f: *mut f64,
+    df_dln_v: *mut f64,
+    df_dpsi: *mut f64,
+    ln_theta_rate_out: *mut f64,
+) -> RsfStatus {
+    guard(|| {
+        let pointers = [fp as usize, sp as usize, ln_v as usize, ln_theta as usize, f as usize, df_dln_v as usize];
+        if n > 0 && (pointers.contains(&0) || df_dpsi.is_null() || ln_theta_rate_out.is_null()) {
+            return fail(RsfStatus::RsfBadInput, "rsf_batch_rates: null pointer".into());
+        }
+        for i in 0..n {
+            let (p, s) = unsafe { (&*fp.add(i), &*sp.add(i)) };
+            let form = match form_of(p) {
+                Ok(f) => f,
+                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
+            };
+            let (x, z) = unsafe { (*ln_v.add(i), *ln_theta.add(i)) };
+            let r = with_law(s, |g, scale| {
+                let fr = friction(form, p.f0, p.a, p.v0, x, psi_term(s.b, p.v0, s.dc, scale, z));
+                (fr, g(x, z))
+            });
+            match r {
+                Ok((fr, rate)) => unsafe {
+                    *f.add(i) = fr.value;
+                    *df_dln_v.add(i) = fr.d_ln_v;
+                    *df_dpsi.add(i) = fr.d_psi;
+                    *ln_theta_rate_out.add(i) = rate;
+                },
+                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
+            }
+        }
+        RsfStatus::RsfOk
+    })
+}
+
+/// Over `n` elements: the slip rate of element i from the balance with its own `tau[i]`,
+/// `sigma[i]`, `eta[i]` and state (Ψ from `sp[i]`, `ln_theta[i]`); `ln_v` holds the warm
+/// starts on entry and the roots on return. Stops at the first element without a root.
+///
+/// # Safety
+/// Every pointer must point to `n` valid values (nulls are refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
+    n: usize,
+    fp: *const RsfFrictionParams,
+    sp: *const RsfStateParams,
+    ln_theta: *const f64,
+    tau: *const f64,
+    sigma: *const f64,
+    eta: *const f64,
+    ln_v: *mut f64,
+) -> RsfStatus {
+    guard(|| {
+        if n > 0
+            && [fp as usize, sp as usize, ln_theta as usize, tau as usize, sigma as usize, eta as usize, ln_v as usize]
+                .contains(&0)
+        {
+            return fail(RsfStatus::RsfBadInput, "rsf_batch_solve_slip_rate: null pointer".into());
+        }
+        for i in 0..n {
+            let (p, s) = unsafe { (&*fp.add(i), &*sp.add(i)) };
+            let form = match form_of(p) {
+                Ok(f) => f,
+                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
+            };
+            let psi = match with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, unsafe { *ln_theta.add(i) })) {
+                Ok(v) => v,
+                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
+            };
+            let (t, sg, et) = unsafe { (*tau.add(i), *sigma.add(i), *eta.add(i)) };
+            match solve_slip_rate(form, p.f0, p.a, p.v0, psi, t, sg, et, unsafe { *ln_v.add(i) }) {
+                Ok(r) => unsafe { *ln_v.add(i) = r.ln_v },
+                Err(e) => {
+                    let st = status_of(e);
+                    return fail(st, format!("element {i}: {e}"));
+                }
+            }
+        }
+        RsfStatus::RsfOk
+    })
+}
+
+fn last_message() -> String {
+    LAST_ERROR.with(|e| e.borrow().to_string_lossy().into_owned())
+}

@@ -1,0 +1,159 @@
+//! The C ABI from C and Fortran: the examples in `examples/` are compiled against the static
+//! library and run (gcc and gfortran from the system packages; `.ci/run` installs gfortran if
+//! missing), and the committed header is checked against cbindgen's output when cbindgen is
+//! installed. The C host integrates the BP1-like spring-slider (regularized friction, aging law,
+//! radiation damping, k = k_c/2) with its own RK4 through the kernels; its recurrence interval
+//! is compared with an independent integration by rsf's own solver (`rsf_solvers::Auto` on the
+//! spring-slider model in µm units, started off steady state by `Problem::initial_theta`).
+
+use rsf_core::{FrictionForm, Loading, Model, Segment, StateVariable};
+use rsf_laws::Aging;
+use rsf_solvers::{Auto, OutputTimes, Problem, solve};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const YEAR: f64 = 3.1536e7;
+
+/// target/<profile>/, where cargo put librsf_capi.a.
+fn target_dir() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().and_then(Path::parent).unwrap().to_path_buf()
+}
+
+fn crate_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn have(tool: &str) -> bool {
+    Command::new(tool).arg("--version").output().is_ok_and(|o| o.status.success())
+}
+
+fn compile_and_run(compiler: &str, source: &str, out: &str) -> String {
+    let lib = target_dir().join("librsf_capi.a");
+    assert!(lib.exists(), "{} not built", lib.display());
+    let exe = std::env::temp_dir().join(out);
+    let src = crate_dir().join("examples").join(source);
+    let status = Command::new(compiler)
+        .arg(&src)
+        .arg(format!("-I{}", crate_dir().join("include").display()))
+        .arg("-o")
+        .arg(&exe)
+        .arg(&lib)
+        .args(["-lpthread", "-ldl", "-lm"])
+        .status()
+        .unwrap();
+    assert!(status.success(), "{compiler} failed on {}", src.display());
+    let o = Command::new(&exe).output().unwrap();
+    assert!(
+        o.status.success(),
+        "{out} failed:\n{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn value(text: &str, key: &str) -> f64 {
+    let line = text.lines().find(|l| l.starts_with(key)).unwrap_or_else(|| panic!("no `{key}` in\n{text}"));
+    line[key.len()..].split_whitespace().next().unwrap().parse().unwrap()
+}
+
+/// The same spring-slider by rsf's own solver: onset of the first event, interval between the
+/// second and third onsets (years), peak slip rate (m/s).
+fn independent() -> (f64, f64, f64) {
+    let sigma = 50e6;
+    // SI → µm, s, friction units: k and η per σ, lengths × 1e6
+    let k = 0.5 * sigma * (0.015 - 0.010) / 0.008 / sigma * 1e-6;
+    let eta = 2670.0 * 3464.0 / 2.0 / sigma * 1e-6;
+    let model = Model { form: FrictionForm::Regularized, ..Model::new(0.6, 1.0, 0.010, k) }
+        .with_eta(eta)
+        .with_state(StateVariable::new(Aging, 0.015, 8000.0));
+    let mut p = Problem::new(model, Loading::Segments(vec![Segment::for_duration(1e-3, 60.0 * YEAR)]), 0.9e-3, 2000.0);
+    p.initial_theta = Some(vec![8000.0 / 1e-3]);
+    let alg = Auto::new(1e-10, 1e-9);
+    // events last seconds: a 2000 s grid finds them by their slip (0.45 m each), a second solve
+    // samples those intervals every 0.05 s
+    let coarse = solve(&p, &alg).unwrap();
+    let mut times = coarse.time.clone();
+    for i in 1..coarse.len() {
+        if coarse.slip[i] - coarse.slip[i - 1] > 1e5 {
+            let (a, b) = (coarse.time[i - 1], coarse.time[i]);
+            times.extend((1..((b - a) / 0.05) as usize).map(|k| a + 0.05 * k as f64));
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    p.output = OutputTimes::Times(times);
+    let sol = solve(&p, &alg).unwrap();
+    let mut onsets = vec![];
+    let mut seismic = false;
+    for i in 1..sol.len() {
+        let (v0, v1) = (sol.slip_rate[i - 1], sol.slip_rate[i]);
+        if !seismic && v1 >= 1e3 {
+            // interpolated in ln V between samples
+            let w = ((1e3f64).ln() - v0.ln()) / (v1.ln() - v0.ln());
+            onsets.push(sol.time[i - 1] + w * (sol.time[i] - sol.time[i - 1]));
+            seismic = true;
+        } else if seismic && v1 < 1e3 {
+            seismic = false;
+        }
+    }
+    let peak = sol.slip_rate.iter().cloned().fold(0.0, f64::max) * 1e-6;
+    (onsets[0] / YEAR, (onsets[2] - onsets[1]) / YEAR, peak)
+}
+
+#[test]
+fn c_host_reproduces_an_independent_integration() {
+    if !have("gcc") {
+        println!("SKIP: gcc not installed (.ci/run installs it); the C example was not run");
+        return;
+    }
+    let out = compile_and_run("gcc", "c/spring_slider.c", "rsf_capi_spring_slider");
+    println!("{out}");
+    let (onset, interval, peak) = (value(&out, "onset"), value(&out, "interval"), value(&out, "peak"));
+    let (onset_r, interval_r, peak_r) = independent();
+    println!("independent: onset {onset_r:.4} yr, interval {interval_r:.4} yr, peak {peak_r:.4} m/s");
+    assert!((onset - onset_r).abs() < 2e-3, "onset {onset} vs {onset_r}");
+    assert!((interval / interval_r - 1.0).abs() < 2e-4, "interval {interval} vs {interval_r}");
+    assert!((peak / peak_r - 1.0).abs() < 0.01, "peak {peak} vs {peak_r}");
+    // the notes' anchors: T = 14.1784 yr (QDYN, years of 365 days) and 14.1687 yr (scipy and
+    // rsf): the same period, 4.4713e8 s, in years of 365 and 365.25 days
+    assert!((interval_r - 14.1784).abs() < 0.002, "independent interval {interval_r}");
+    assert!((interval_r * YEAR / (365.25 * 86400.0) - 14.1687).abs() < 0.002);
+    assert!(out.contains("unknown law -> 2: unknown law id 42"), "{out}");
+    assert!(out.contains("negative stress -> 3: "), "{out}");
+}
+
+#[test]
+fn fortran_host_through_iso_c_binding() {
+    if !have("gfortran") {
+        println!("SKIP: gfortran not installed (.ci/run installs it); the Fortran example was not run");
+        return;
+    }
+    let out = compile_and_run("gfortran", "fortran/element.f90", "rsf_capi_element_f90");
+    println!("{out}");
+    assert!(value(&out, "friction error") < 1e-14, "{out}");
+    assert!(value(&out, "rate at steady state") < 1e-12, "{out}");
+    assert!(value(&out, "solve error") < 1e-10, "{out}");
+    assert!(out.contains("batch status 0"), "{out}");
+}
+
+#[test]
+fn committed_header_is_what_cbindgen_makes() {
+    if !have("cbindgen") {
+        println!("SKIP: cbindgen not installed (cargo install cbindgen); the header was not regenerated");
+        return;
+    }
+    let tmp = std::env::temp_dir().join("rsf_capi_header.h");
+    let root = crate_dir().join("../..");
+    let status = Command::new("cbindgen")
+        .current_dir(&root)
+        .args(["--config", "crates/rsf-capi/cbindgen.toml", "--crate", "rsf-capi", "--quiet", "--output"])
+        .arg(&tmp)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let fresh = std::fs::read_to_string(&tmp).unwrap();
+    let committed = std::fs::read_to_string(crate_dir().join("include/rsf.h")).unwrap();
+    assert!(fresh == committed, "include/rsf.h is stale: regenerate it with the command in cbindgen.toml");
+}
