@@ -33,7 +33,12 @@ fn compile_and_run(compiler: &str, source: &str, out: &str) -> String {
     assert!(lib.exists(), "{} not built", lib.display());
     let exe = std::env::temp_dir().join(out);
     let src = crate_dir().join("examples").join(source);
-    let status = Command::new(compiler)
+    let mut cmd = Command::new(compiler);
+    if compiler == "gfortran" {
+        // the compiled module file goes to the temporary directory, not the source tree
+        cmd.arg("-J").arg(std::env::temp_dir());
+    }
+    let status = cmd
         .arg(&src)
         .arg(format!("-I{}", crate_dir().join("include").display()))
         .arg("-o")

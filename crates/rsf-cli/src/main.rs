@@ -290,6 +290,8 @@ duration = 500.0
 
 [output]
 dt = 0.02           # s; optional for a record (default: the record's own times)
+# peak_slip_rate = true   # add the largest slip rate since the previous row (from every step)
+# event_slip_rate = 1e3   # µm/s: catalogue events with V above it into OUT_events.csv
 
 [solver]
 method = \"auto\"     # \"auto\" (Tsit5, switching to Rodas5P where stiff) | \"tsit5\" | \"dopri5\" | \"rodas5p\" | \"rodas4\"
@@ -372,6 +374,24 @@ fn run(cli: Cli) -> Result<()> {
                 None => sol.write_csv(std::io::stdout().lock()).context("writing CSV to stdout")?,
             }
             let write_s = start.elapsed().as_secs_f64();
+            if let Some(v) = p.problem.watch.event_slip_rate {
+                // the catalogue beside the CSV (OUT_events.csv), or on stderr without -o
+                match &output {
+                    Some(path) => {
+                        let ev = path.with_file_name(format!(
+                            "{}_events.csv",
+                            path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()
+                        ));
+                        let f = std::fs::File::create(&ev).with_context(|| format!("creating {}", ev.display()))?;
+                        sol.write_events_csv(f).with_context(|| format!("writing {}", ev.display()))?;
+                        eprintln!("rsf simulate: {} events (V ≥ {v} µm/s) in {}", sol.events.len(), ev.display());
+                    }
+                    None => {
+                        eprintln!("rsf simulate: {} events (V ≥ {v} µm/s):", sol.events.len());
+                        sol.write_events_csv(std::io::stderr().lock()).context("writing events")?;
+                    }
+                }
+            }
             if let Some(path) = &plot {
                 plot::simulation(&sol, p.measured_friction.as_deref(), path, &protocol.display().to_string())
                     .with_context(|| format!("writing plot {}", path.display()))?;

@@ -50,6 +50,7 @@ pub fn run(
         initial_theta: None,
         output: OutputTimes::Times(times),
         max_slip_rate: 1e9,
+        watch: Default::default(),
     };
     Ok(res.method.solve(&problem)?)
 }

@@ -82,11 +82,11 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
         let err = error_norm(sys, &(err_vec * h), &y, &y1, tol);
         let fac11 = err.powf(expo1);
         if err <= 1.0 {
-            if let Err(reason) = sys.check(&y1) {
-                return Err(IntegrationError::Stopped { t: t + h, reason });
+            let t_new = if last { t1 } else { t + h };
+            if let Err(reason) = sys.accepted(t_new, &y1) {
+                return Err(IntegrationError::Stopped { t: t_new, reason });
             }
             stats.accepted += 1;
-            let t_new = if last { t1 } else { t + h };
             emit_dense(t_out, &mut next_out, (t, h, t_new), &y1, || P::dense(&k, &y, &y1, h), out);
             let fac = (fac11 / facold.powf(beta) / safe).clamp(facc2, facc1);
             facold = err.max(1e-4);

@@ -52,6 +52,7 @@ mod rosenbrock;
 mod solve;
 mod tableau;
 mod tsit5;
+mod watch;
 
 pub use auto::Auto;
 pub use dopri5::Dopri5;
@@ -61,6 +62,7 @@ pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;
 pub use solve::{MAX_STATES, OutputTimes, Problem, Solution, SolveError, drive, output_times, solve, solve_friction};
 pub use tsit5::Tsit5;
+pub use watch::{SlipEvent, WatchOptions};
 
 /// The built-in methods, for run-time selection (e.g. from a protocol file).
 #[derive(Clone, Copy, Debug)]

@@ -26,6 +26,14 @@ pub trait OdeSystem<const D: usize> {
         let _ = y;
         Ok(())
     }
+
+    /// Called after each accepted step ending at time `t` with state `y` (the integrators call
+    /// this, not [`check`](Self::check)); the default is `check(y)`. A system that watches
+    /// every step (peak slip rates, events) overrides it.
+    fn accepted(&self, t: f64, y: &SVector<f64, D>) -> Result<(), String> {
+        let _ = t;
+        self.check(y)
+    }
 }
 
 /// Relative and absolute tolerances.

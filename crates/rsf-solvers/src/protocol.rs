@@ -28,8 +28,8 @@
 //! assert_eq!(sol.time.last(), Some(&(10.0 / 0.3)));
 //! ```
 
-use crate::Method;
 use crate::solve::{OutputTimes, Problem};
+use crate::{Method, WatchOptions};
 use rsf_core::{FrictionForm, LoadRecord, Loading, Model, ModelError, Segment, StateVariable};
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -143,6 +143,8 @@ struct RawSegment {
 #[serde(deny_unknown_fields)]
 struct RawOutput {
     dt: Option<S<f64>>,
+    peak_slip_rate: Option<bool>,
+    event_slip_rate: Option<S<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -418,7 +420,24 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             format!("unknown method `{method_name}`; use one of {}", Method::NAMES.join(", ")),
         )
     })?;
-    let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax };
+    let watch = match raw.output.as_ref().map(|o| o.get_ref()) {
+        None => WatchOptions::default(),
+        Some(o) => {
+            let event_slip_rate = match &o.event_slip_rate {
+                None => None,
+                Some(v) if *v.get_ref() > 0.0 && v.get_ref().is_finite() => Some(*v.get_ref()),
+                Some(v) => {
+                    return Err(err(
+                        Some(&v.span()),
+                        "output.event_slip_rate",
+                        format!("{} must be positive and finite (µm/s)", v.get_ref()),
+                    ));
+                }
+            };
+            WatchOptions { peak_slip_rate: o.peak_slip_rate.unwrap_or(false), event_slip_rate }
+        }
+    };
+    let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax, watch };
     Ok(Protocol { problem, method, measured_friction })
 }
 

@@ -79,11 +79,11 @@ pub(crate) fn integrate<const S: usize, const R: usize, const D: usize, Sys: Ode
             let err = error_norm(sys, &k[S - 1], &y, &y1, tol);
             let fac = if err.is_finite() { (err.powf(expo) / 0.9).clamp(0.2, 6.0) } else { 10.0 };
             if err <= 1.0 {
-                if let Err(reason) = sys.check(&y1) {
-                    return Err(IntegrationError::Stopped { t: t + h, reason });
+                let t_new = if last { t1 } else { t + h };
+                if let Err(reason) = sys.accepted(t_new, &y1) {
+                    return Err(IntegrationError::Stopped { t: t_new, reason });
                 }
                 stats.accepted += 1;
-                let t_new = if last { t1 } else { t + h };
                 let yc = y;
                 let dense = || {
                     let mut kk = [SVector::<f64, D>::zeros(); R];

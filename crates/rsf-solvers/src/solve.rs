@@ -1,6 +1,7 @@
 //! Problem → algorithm → solution for the spring-slider.
 
 use crate::ode::{IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
+use crate::watch::{SlipEvent, StepWatch, WatchOptions};
 use nalgebra::{SMatrix, SVector};
 use rsf_core::{Loading, Model, ModelError, Piece, SpringSlider};
 use serde::Serialize;
@@ -58,12 +59,23 @@ pub struct Problem {
     /// Slip rate (µm/s) beyond which the run stops with a blow-up error. Default 1e9 µm/s
     /// (1 km/s: no quasi-static lab model means anything there).
     pub max_slip_rate: f64,
+    /// What to take from every integrator step besides the output rows: the peak slip rate
+    /// between rows and an event catalogue ([`WatchOptions`]); off by default.
+    pub watch: WatchOptions,
 }
 
 impl Problem {
     /// A problem sampled every `dt` seconds.
     pub fn new(model: Model, loading: Loading, v_init: f64, dt: f64) -> Self {
-        Self { model, loading, v_init, initial_theta: None, output: OutputTimes::Every(dt), max_slip_rate: 1e9 }
+        Self {
+            model,
+            loading,
+            v_init,
+            initial_theta: None,
+            output: OutputTimes::Every(dt),
+            max_slip_rate: 1e9,
+            watch: WatchOptions::default(),
+        }
     }
 }
 
@@ -153,6 +165,11 @@ pub struct Solution {
     pub method: String,
     /// Tolerances used.
     pub tolerances: Option<Tolerances>,
+    /// The largest slip rate since the previous row, µm/s, per row (empty unless
+    /// [`WatchOptions::peak_slip_rate`]).
+    pub peak_slip_rate: Vec<f64>,
+    /// Slip events (empty unless [`WatchOptions::event_slip_rate`]).
+    pub events: Vec<SlipEvent>,
 }
 
 impl Solution {
@@ -175,6 +192,10 @@ impl Solution {
         for i in 0..self.theta.len() {
             write!(w, ",theta_{}_s", i + 1)?;
         }
+        let peak = self.peak_slip_rate.len() == self.len() && !self.peak_slip_rate.is_empty();
+        if peak {
+            write!(w, ",peak_slip_rate_um_s")?;
+        }
         writeln!(w)?;
         let mut buf = ryu::Buffer::new();
         let mut line: Vec<u8> = Vec::with_capacity(256);
@@ -191,6 +212,7 @@ impl Solution {
             for (j, x) in [self.time[r], self.load_point[r], self.mu[r], self.slip_rate[r], self.slip[r]]
                 .into_iter()
                 .chain(self.theta.iter().map(|t| t[r]))
+                .chain(peak.then(|| self.peak_slip_rate[r]))
                 .enumerate()
             {
                 if j > 0 {
@@ -209,6 +231,7 @@ impl Solution {
 struct SliderOde<'a, const D: usize> {
     sys: SpringSlider<'a>,
     ln_v_max: f64,
+    watch: Option<&'a StepWatch>,
 }
 
 impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
@@ -233,6 +256,14 @@ impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
     #[inline]
     fn check(&self, y: &SVector<f64, D>) -> Result<(), String> {
         if y[0] > self.ln_v_max { Err(format!("slip rate {:.3e} µm/s exceeds the limit", y[0].exp())) } else { Ok(()) }
+    }
+    #[inline]
+    fn accepted(&self, t: f64, y: &SVector<f64, D>) -> Result<(), String> {
+        if let Some(w) = self.watch {
+            // one right-hand side per accepted step, only when watching
+            w.step(t, y[0], self.rhs(y)[0], y[D - 1]);
+        }
+        self.check(y)
     }
 }
 
@@ -361,8 +392,12 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         stats: StepStats::default(),
         method: alg.name().to_string(),
         tolerances: Some(tol),
+        peak_slip_rate: Vec::new(),
+        events: Vec::new(),
     };
     let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
+    let watching = problem.watch.peak_slip_rate || problem.watch.event_slip_rate.is_some();
+    let watch = watching.then(|| StepWatch::new(&problem.watch));
 
     let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
         sol.time.push(t);
@@ -375,10 +410,16 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         }
     };
 
-    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, |piece, t, y| {
-        record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y)
+    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, watch.as_ref(), |piece, t, y| {
+        record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y);
+        if let (Some(w), true) = (&watch, problem.watch.peak_slip_rate) {
+            sol.peak_slip_rate.push(w.row(t, y[0]));
+        }
     })?;
     sol.stats = stats;
+    if let Some(w) = watch {
+        sol.events = w.into_events();
+    }
     Ok(sol)
 }
 
@@ -473,6 +514,7 @@ fn drive_slider<const D: usize, I: Integrator>(
     t_out: &[f64],
     y: SVector<f64, D>,
     alg: &I,
+    watch: Option<&StepWatch>,
     record: impl FnMut(&Piece, f64, &SVector<f64, D>),
 ) -> Result<StepStats, SolveError> {
     let ln_v_max = problem.max_slip_rate.ln();
@@ -483,7 +525,7 @@ fn drive_slider<const D: usize, I: Integrator>(
         t_out,
         y,
         alg,
-        |sys| SliderOde::<D> { sys, ln_v_max },
+        |sys| SliderOde::<D> { sys, ln_v_max, watch },
         problem.max_slip_rate,
         &mut stats,
         record,
@@ -514,7 +556,7 @@ fn friction_dim<const D: usize, I: Integrator>(
         + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
     let b: Vec<f64> = model.states.iter().map(|s| s.b).collect();
     let mut mu = Vec::with_capacity(t_out.len());
-    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, |piece, _, y| {
+    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, None, |piece, _, y| {
         mu.push(if classic {
             let mut t = c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
             if model.eta != 0.0 {
@@ -526,4 +568,17 @@ fn friction_dim<const D: usize, I: Integrator>(
         })
     })?;
     Ok((mu, stats))
+}
+
+impl Solution {
+    /// The event catalogue as CSV: `onset_s,end_s,peak_slip_rate_um_s,peak_time_s,slip_um`
+    /// (an event still running at the end has an empty `end_s`).
+    pub fn write_events_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
+        writeln!(w, "onset_s,end_s,peak_slip_rate_um_s,peak_time_s,slip_um")?;
+        for e in &self.events {
+            let end = e.end_s.map(|t| format!("{t:?}")).unwrap_or_default();
+            writeln!(w, "{:?},{end},{:?},{:?},{:?}", e.onset_s, e.peak_slip_rate, e.peak_time_s, e.slip_um)?;
+        }
+        Ok(())
+    }
 }
