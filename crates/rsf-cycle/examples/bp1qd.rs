@@ -2,6 +2,7 @@
 //!
 //! ```sh
 //! cargo run --release -p rsf-cycle --example bp1qd -- --cells 512 --years 3000 --out target/bp1qd
+//! cargo run --release -p rsf-cycle --example bp1qd -- --cells 512 --years 1000 --law slip --out target/bp1qd_slip
 //! ```
 //!
 //! Writes `OUT/events.csv` (`onset_yr,peak_slip_rate_m_s,surface_slip_m,nucleation_depth_km`) and
@@ -9,7 +10,7 @@
 //! intervals, the integrator's work and the time per step and per dense mat-vec.
 
 use rsf_cycle::elastic::Kernel;
-use rsf_cycle::run::{RunOptions, run};
+use rsf_cycle::run::{RunOptions, run_with};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -29,8 +30,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         o.max_events = Some(m.parse()?);
     }
     o.out = Some(flag("--out").unwrap_or_else(|| "target/bp1qd".into()).into());
+    let mut p = rsf_cycle::params::Bp1::default();
+    match flag("--law").as_deref() {
+        None | Some("aging") => {}
+        Some("slip") => p.law = rsf_cycle::params::EvolutionLaw::Slip,
+        Some(other) => return Err(format!("--law {other}: use aging (the benchmark's) or slip").into()),
+    }
     eprintln!("BP1-QD: {} cells of {:.1} m, {} yr, rtol {:e}", o.cells, 40e3 / o.cells as f64, o.years, o.rtol);
-    let r = run(&o)?;
+    let r = run_with(p, &o)?;
     println!("| # | onset (yr) | interval (yr) | peak V (m/s) | surface slip (m) | nucleation (km) |");
     println!("|---|---|---|---|---|---|");
     let mut prev: Option<f64> = None;

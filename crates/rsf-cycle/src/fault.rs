@@ -12,10 +12,10 @@
 //! [`rsf_core::element`].
 
 use crate::elastic::Kernel;
-use crate::params::Bp1;
-use rsf_core::FrictionForm;
+use crate::params::{Bp1, EvolutionLaw};
 use rsf_core::element::{friction, ln_theta_rate, psi_term};
-use rsf_laws::Aging;
+use rsf_core::{FrictionForm, StateLaw};
+use rsf_laws::{Aging, Slip};
 use rsf_solvers::{LargeSystem, Tolerances};
 
 /// The BP1-QD fault discretised into `n` cells over [0, W_f].
@@ -80,6 +80,21 @@ impl LargeSystem for Fault {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), String> {
+        match self.p.law {
+            EvolutionLaw::Aging => self.rhs_with(&Aging, y, dy),
+            EvolutionLaw::Slip => self.rhs_with(&Slip, y, dy),
+        }
+    }
+
+    fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
+        // ln V and ln θ: an absolute error on the log is a relative error on V and θ
+        if i < 2 * self.cells() { tol.rtol } else { tol.atol + tol.rtol * y0.abs().max(y1.abs()) }
+    }
+}
+
+impl Fault {
+    /// The right-hand side with the state law `law` (monomorphised per law).
+    fn rhs_with<L: StateLaw>(&mut self, law: &L, y: &[f64], dy: &mut [f64]) -> Result<(), String> {
         let n = self.cells();
         let p = &self.p;
         for i in 0..n {
@@ -95,16 +110,11 @@ impl LargeSystem for Fault {
             let (x, z, v) = (y[i], y[n + i], self.v[i]);
             let psi = psi_term(p.b0, p.v0, p.dc, 1.0, z);
             let f = friction(FrictionForm::Regularized, p.f0, self.a[i], p.v0, x, psi);
-            let zr = ln_theta_rate(&Aging, x, z, p.dc, p.b0);
+            let zr = ln_theta_rate(law, x, z, p.dc, p.b0);
             dz[i] = zr;
             dx[i] = (self.rate[i] - p.sigma * f.d_psi * p.b0 * zr) / (p.sigma * f.d_ln_v + self.eta * v);
             dd[i] = v;
         }
         Ok(())
-    }
-
-    fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
-        // ln V and ln θ: an absolute error on the log is a relative error on V and θ
-        if i < 2 * self.cells() { tol.rtol } else { tol.atol + tol.rtol * y0.abs().max(y1.abs()) }
     }
 }

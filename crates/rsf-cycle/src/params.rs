@@ -1,8 +1,21 @@
 //! The BP1-QD parameters (SEAS Benchmark Problem BP1-QD, Erickson & Jiang, 2018), SI units.
 
+/// The state-evolution law of the fault (the benchmark's is the aging law; the slip law is a
+/// variant no fault code of the benchmark offers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EvolutionLaw {
+    /// dθ/dt = 1 − Vθ/Dc.
+    #[default]
+    Aging,
+    /// dθ/dt = −(Vθ/Dc) ln(Vθ/Dc).
+    Slip,
+}
+
 /// Parameters of the benchmark.
 #[derive(Clone, Debug)]
 pub struct Bp1 {
+    /// State-evolution law.
+    pub law: EvolutionLaw,
     /// Density ρ, kg/m³.
     pub rho: f64,
     /// Shear-wave speed c_s, m/s.
@@ -36,6 +49,7 @@ pub struct Bp1 {
 impl Default for Bp1 {
     fn default() -> Self {
         Self {
+            law: EvolutionLaw::Aging,
             rho: 2670.0,
             cs: 3464.0,
             sigma: 50e6,
