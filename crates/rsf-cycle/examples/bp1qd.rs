@@ -3,6 +3,8 @@
 //! ```sh
 //! cargo run --release -p rsf-cycle --example bp1qd -- --cells 512 --years 3000 --out target/bp1qd
 //! cargo run --release -p rsf-cycle --example bp1qd -- --cells 512 --years 1000 --law slip --out target/bp1qd_slip
+//! # two state variables: b = 0.010 + 0.005, Dc = 8 mm and 80 mm
+//! cargo run --release -p rsf-cycle --example bp1qd -- --cells 512 --years 1000 --second-state 0.005,0.08 --out target/bp1qd_2state
 //! ```
 //!
 //! Writes `OUT/events.csv` (`onset_yr,peak_slip_rate_m_s,surface_slip_m,nucleation_depth_km`) and
@@ -31,10 +33,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     o.out = Some(flag("--out").unwrap_or_else(|| "target/bp1qd".into()).into());
     let mut p = rsf_cycle::params::Bp1::default();
+    if let Some(b0) = flag("--b0") {
+        p.b0 = b0.parse()?;
+    }
     match flag("--law").as_deref() {
         None | Some("aging") => {}
         Some("slip") => p.law = rsf_cycle::params::EvolutionLaw::Slip,
         Some(other) => return Err(format!("--law {other}: use aging (the benchmark's) or slip").into()),
+    }
+    // --second-state B,DC[,LAW]: a second state variable (b0 stays the first state's b)
+    if let Some(s) = flag("--second-state") {
+        let parts: Vec<&str> = s.split(',').collect();
+        let law = match parts.get(2).copied() {
+            None | Some("aging") => rsf_cycle::params::EvolutionLaw::Aging,
+            Some("slip") => rsf_cycle::params::EvolutionLaw::Slip,
+            Some(other) => return Err(format!("--second-state law {other}: use aging or slip").into()),
+        };
+        let (b, dc) = match (parts.first().map(|x| x.parse::<f64>()), parts.get(1).map(|x| x.parse::<f64>())) {
+            (Some(Ok(b)), Some(Ok(dc))) if dc > 0.0 => (b, dc),
+            _ => return Err(format!("--second-state {s}: give B,DC[,LAW] with Dc > 0 (m)").into()),
+        };
+        p.second = Some(rsf_cycle::params::SecondState { law, b, dc });
     }
     eprintln!("BP1-QD: {} cells of {:.1} m, {} yr, rtol {:e}", o.cells, 40e3 / o.cells as f64, o.years, o.rtol);
     let r = run_with(p, &o)?;

@@ -11,11 +11,24 @@ pub enum EvolutionLaw {
     Slip,
 }
 
+/// A second state variable (a variant: the benchmark has one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SecondState {
+    /// Its evolution law.
+    pub law: EvolutionLaw,
+    /// Its b (the first state keeps `b0`; the steady-state b is the sum).
+    pub b: f64,
+    /// Its characteristic slip distance, m.
+    pub dc: f64,
+}
+
 /// Parameters of the benchmark.
 #[derive(Clone, Debug)]
 pub struct Bp1 {
     /// State-evolution law.
     pub law: EvolutionLaw,
+    /// An optional second state variable (`None` in the benchmark).
+    pub second: Option<SecondState>,
     /// Density ρ, kg/m³.
     pub rho: f64,
     /// Shear-wave speed c_s, m/s.
@@ -50,6 +63,7 @@ impl Default for Bp1 {
     fn default() -> Self {
         Self {
             law: EvolutionLaw::Aging,
+            second: None,
             rho: 2670.0,
             cs: 3464.0,
             sigma: 50e6,
@@ -87,19 +101,37 @@ impl Bp1 {
             self.a_max
         }
     }
+    /// The steady-state b: b0, plus the second state's b if any.
+    pub fn b_total(&self) -> f64 {
+        self.b0 + self.second.map_or(0.0, |s| s.b)
+    }
     /// The uniform pre-stress τ0: steady state at V_init with a = a_max, plus η V_init, Pa.
     pub fn tau0(&self) -> f64 {
-        let (am, b) = (self.a_max, self.b0);
+        let (am, b) = (self.a_max, self.b_total());
         let l = (self.v_init / (2.0 * self.v0)).ln() + (self.f0 + b * (self.v0 / self.v_init).ln()) / am;
         self.sigma * am * l.exp().asinh() + self.eta() * self.v_init
     }
     /// The initial ln θ at depth z (the benchmark's depth-dependent, not steady, state), ln s.
+    /// With a second state both share the same V0 θ/Dc, so that Ψ balances τ0 as in the
+    /// benchmark; the second's ln θ is this plus ln(Dc2/Dc).
     pub fn ln_theta_init(&self, z: f64) -> f64 {
-        let a = self.a(z);
+        let (a, b) = (self.a(z), self.b_total());
         let s = (self.tau0() - self.eta() * self.v_init) / (a * self.sigma);
         // ln sinh(s) without overflow: s + ln((1 − e^(−2s))/2)
         let ln_sinh = s + (0.5 * (-(-2.0 * s).exp_m1())).ln();
-        (self.dc / self.v0).ln() + (a / self.b0) * ((2.0 * self.v0 / self.v_init).ln() + ln_sinh) - self.f0 / self.b0
+        (self.dc / self.v0).ln() + (a / b) * ((2.0 * self.v0 / self.v_init).ln() + ln_sinh) - self.f0 / b
+    }
+    /// Number of state variables (1 in the benchmark).
+    pub fn states(&self) -> usize {
+        1 + usize::from(self.second.is_some())
+    }
+    /// (law, b, Dc) of state `k`.
+    pub fn state(&self, k: usize) -> (EvolutionLaw, f64, f64) {
+        match (k, self.second) {
+            (0, _) => (self.law, self.b0, self.dc),
+            (_, Some(s)) => (s.law, s.b, s.dc),
+            _ => panic!("state {k} of a one-state fault"),
+        }
     }
     /// Quasi-static process zone Λ0 = μ D_c / (b σ_n), m (the cell size must resolve it).
     pub fn process_zone(&self) -> f64 {

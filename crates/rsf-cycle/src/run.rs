@@ -2,7 +2,7 @@
 //! accepted step, and write the catalogue and station files.
 
 use crate::events::Catalogue;
-use crate::fault::{Fault, shear_stress};
+use crate::fault::{Fault, shear_stress, slip_index};
 use crate::params::Bp1;
 use crate::stations::{Stations, at_depth};
 use rsf_solvers::{Flow, LargeTsit5, StepStats};
@@ -73,6 +73,7 @@ pub fn run_with(p: Bp1, opts: &RunOptions) -> Result<RunResult, String> {
     let mut next_report = 0.0;
     // what the observer needs of the fault while the integrator holds it for the right-hand side
     let (p_obs, a_obs) = (fault.p.clone(), fault.a.clone());
+    let slip = |y: &[f64], i: usize| y[slip_index(&p_obs, n, i)];
     let depth = |i: usize| (i as f64 + 0.5) * dz;
     let t_end = alg
         .integrate(
@@ -88,13 +89,13 @@ pub fn run_with(p: Bp1, opts: &RunOptions) -> Result<RunResult, String> {
                         (imax, xmax) = (i, x);
                     }
                 }
-                let surface = at_depth(0.0, dz, n, |i| y[2 * n + i]);
+                let surface = at_depth(0.0, dz, n, |i| slip(y, i));
                 let before = cat.events.len();
                 cat.observe(t, xmax, depth(imax), surface);
                 if st.due(t, cat.seismic()) {
                     st.record(t, |z| {
                         (
-                            at_depth(z, dz, n, |i| y[2 * n + i]),
+                            at_depth(z, dz, n, |i| slip(y, i)),
                             at_depth(z, dz, n, |i| y[i]),
                             at_depth(z, dz, n, |i| shear_stress(&p_obs, &a_obs, y, i)),
                             at_depth(z, dz, n, |i| y[n + i]),
