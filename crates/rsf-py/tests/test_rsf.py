@@ -1,0 +1,102 @@
+"""The Python package against the CLI on the same inputs: simulate to 1e-12, fit parameters to
+1e-9 relative, the diagnosis cause and its ΔBIC; and the errors a user meets."""
+
+import csv
+import json
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+import rsf
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+CLI = os.path.join(ROOT, "target", "release", "rsf")
+BASALT = os.path.join(ROOT, "examples", "data", "giacomel-basalt", "velstep4_BRAVA_expb819_basalt.txt")
+COLS = dict(time_col="Time(s)", lp_col="Displ(microns)", mu_col="Friction")
+CLI_COLS = ["--time-col", "Time(s)", "--lp-col", "Displ(microns)", "--mu-col", "Friction"]
+
+
+def cli(*args):
+    if not os.path.exists(CLI):
+        pytest.skip("target/release/rsf not built (cargo build --release -p rsf-cli)")
+    return subprocess.run([CLI, *args], check=True, capture_output=True, text=True)
+
+
+def test_simulate_equals_the_cli():
+    path = os.path.join(ROOT, "examples", "step_down.toml")
+    out = rsf.simulate(path)
+    with tempfile.TemporaryDirectory() as d:
+        csv_path = os.path.join(d, "s.csv")
+        cli("simulate", path, "-o", csv_path)
+        with open(csv_path) as f:
+            rows = list(csv.DictReader(f))
+    assert len(rows) == len(out["time_s"])
+    for key in ["time_s", "load_point_um", "mu", "slip_rate_um_s", "slip_um"]:
+        col = np.array([float(r[key]) for r in rows])
+        assert np.max(np.abs(col - out[key])) <= 1e-12 * max(1.0, np.max(np.abs(col))), key
+    theta = np.array([float(r["theta_1_s"]) for r in rows])
+    assert out["theta_s"].shape == (len(rows), 1)
+    assert np.allclose(out["theta_s"][:, 0], theta, rtol=1e-12, atol=0)
+    assert out["method"] == "rodas5p"  # the file asks for "implicit"
+
+
+def test_simulate_from_toml_text_and_its_errors():
+    text = open(os.path.join(ROOT, "examples", "step_down.toml")).read()
+    assert len(rsf.simulate(text)["mu"]) > 10
+    with pytest.raises(ValueError, match="model.a"):
+        rsf.simulate(text.replace("a = 0.013", "a = -0.013", 1))
+
+
+def test_fit_equals_the_cli():
+    rec = rsf.read_record(BASALT, **COLS)
+    assert rec["time_s"].shape == rec["mu"].shape and len(rec["time_s"]) == 5849
+    py = rsf.fit(rec, law="slip", stiffness=0.0151, fit_stiffness=True)
+    with tempfile.TemporaryDirectory() as d:
+        j = os.path.join(d, "f.json")
+        cli("fit", BASALT, *CLI_COLS, "--law", "slip", "--stiffness", "0.0151", "--fit-stiffness",
+            "--loading", "protocol", "--json", j)
+        ref = json.load(open(j))
+    for key in ["mu0", "a", "k", "v0"]:
+        assert py["params"][key] == pytest.approx(ref["params"][key], rel=1e-9), key
+    for key in ["b", "dc"]:
+        assert py["params"][key] == pytest.approx(ref["params"][key], rel=1e-9), key
+    assert py["rms"] == pytest.approx(ref["rms"], rel=1e-9)
+    # the README's main job reports k = 0.00709 /µm for this record
+    assert abs(py["params"]["k"] - 0.00709) < 5e-5
+
+
+def test_diagnose_equals_the_cli():
+    rec = rsf.read_record(BASALT, **COLS)
+    py = rsf.diagnose(rec, stiffness=0.0151)
+    with tempfile.TemporaryDirectory() as d:
+        j = os.path.join(d, "d.json")
+        cli("diagnose", BASALT, *CLI_COLS, "--stiffness", "0.0151", "--json", j)
+        ref = json.load(open(j))
+    assert py["cause"] == ref["cause"] == "slip_trend"
+    by = {c["cause"]: c for c in py["candidates"]}
+    rf = {c["cause"]: c for c in ref["candidates"]}
+    assert by["slip_trend"]["delta_bic"] == pytest.approx(rf["slip_trend"]["delta_bic"], rel=1e-9)
+    # the same answer with one thread
+    assert rsf.diagnose(rec, stiffness=0.0151, threads=1)["cause"] == py["cause"]
+
+
+def test_bad_arrays_are_refused_with_a_message():
+    t = np.linspace(0.0, 10.0, 50)
+    x, m = t.copy(), np.full(50, 0.6)
+    t_bad = t.copy()
+    t_bad[20] = t_bad[19]
+    with pytest.raises(ValueError, match="increase strictly"):
+        rsf.fit(time=t_bad, load_point=x, mu=m, stiffness=0.01)
+    m_bad = m.copy()
+    m_bad[3] = np.nan
+    with pytest.raises(ValueError, match=r"mu\[3\] is not finite"):
+        rsf.fit(time=t, load_point=x, mu=m_bad, stiffness=0.01)
+    with pytest.raises(ValueError, match="stiffness"):
+        rsf.fit(time=t, load_point=x, mu=m, stiffness=-1.0)
+    with pytest.raises(ValueError, match="unknown law"):
+        rsf.fit(time=t, load_point=x, mu=m, stiffness=0.01, law="dieterich")
+    with pytest.raises(ValueError, match="differ in length"):
+        rsf.fit(time=t, load_point=x[:-1], mu=m, stiffness=0.01)
