@@ -118,6 +118,15 @@ pub trait StateLaw: Debug + Clone + Send + Sync + 'static {
         1.0
     }
 
+    /// d(ln θ)/dt = G/θ at `x = ln V`, `z = ln θ` (the log form of rsf's integrators and of
+    /// the per-element kernels). The default evaluates [`theta_rate`](StateLaw::theta_rate)
+    /// at e^x, e^z; a law overrides it where the log form saves transcendental calls (the
+    /// Slip law: one exponential instead of two and a logarithm).
+    fn ln_theta_rate(&self, x: f64, z: f64, dc: f64, b: f64) -> f64 {
+        let theta = z.exp();
+        self.theta_rate(&StateArgs::new(x.exp(), theta, dc, b)) / theta
+    }
+
     /// Exact value and partial derivatives of dθ/dt (forward-mode dual numbers over
     /// [`theta_rate`](StateLaw::theta_rate)).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {

@@ -79,6 +79,11 @@ impl StateLaw for Slip {
     fn name(&self) -> String {
         "slip".into()
     }
+    /// −(V/Dc) ln Ω with ln Ω = x + z − ln Dc: one exponential.
+    fn ln_theta_rate(&self, x: f64, z: f64, dc: f64, _b: f64) -> f64 {
+        let ln_dc = dc.ln();
+        -(x - ln_dc).exp() * (x + z - ln_dc)
+    }
     /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1),
     /// ∂G/∂Dc = (Ω/Dc)(ln Ω + 1).
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
@@ -261,6 +266,15 @@ pub fn law_parameters(name: &str) -> &'static [&'static str] {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// The Slip law's log-form rate equals the generic one (θ-rate at e^x, e^z over θ).
+    #[test]
+    fn slip_log_form_rate_equals_the_generic_one() {
+        for &(x, z, dc) in &[(0.3, 1.1, 2.07), (-20.0, 25.0, 8000.0), (5.0, -4.0, 0.1)] {
+            let generic = Slip.theta_rate(&StateArgs::new(f64::exp(x), f64::exp(z), dc, 0.01)) / f64::exp(z);
+            assert_relative_eq!(Slip.ln_theta_rate(x, z, dc, 0.01), generic, max_relative = 1e-12, epsilon = 1e-300);
+        }
+    }
 
     fn all() -> Vec<Arc<dyn DynStateLaw>> {
         vec![
