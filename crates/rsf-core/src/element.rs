@@ -33,6 +33,7 @@
 //! # }
 //! ```
 
+use crate::friction::asinh_exp_and_slope;
 use crate::{FrictionForm, StateArgs, StateLaw};
 
 /// Friction and its partial derivatives at one point.
@@ -57,15 +58,8 @@ pub fn friction(form: FrictionForm, f0: f64, a: f64, v0: f64, ln_v: f64, psi: f6
             // one exponential for value and slope: with L = ln(V/(2V0)) + (f0 + Ψ)/a,
             // f = a asinh(e^L) and ∂f/∂L = 1/sqrt(1 + e^(−2L)), written for either sign of L
             let l = ln_v - (2.0 * v0).ln() + (f0 + psi) / a;
-            let (value, c) = if l > 0.0 {
-                let e = (-2.0 * l).exp();
-                let r = (1.0 + e).sqrt();
-                (a * (l + (1.0 + r).ln()), 1.0 / r)
-            } else {
-                let e = l.exp();
-                let r = (1.0 + e * e).sqrt();
-                (a * (e + r).ln(), e / r)
-            };
+            let (asinh, c) = asinh_exp_and_slope(l);
+            let value = a * asinh;
             Friction { value, d_ln_v: a * c, d_psi: c }
         }
     }

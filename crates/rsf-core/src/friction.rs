@@ -35,18 +35,25 @@ pub(crate) struct FrictionEval {
     pub d_fpsi_dl: f64,
 }
 
-/// `asinh(e^l)` without overflow.
-fn asinh_exp(l: f64) -> f64 {
-    if l > 0.0 { l + (1.0 + (1.0 + (-2.0 * l).exp()).sqrt()).ln() } else { l.exp().asinh() }
-}
+/// Above this l, asinh(e^l) = l + ln 2 and its slope is 1 to the last bit (e^(−2l) < 4e-18 is
+/// lost beside 1): the usual regime of lab and fault friction, where (μ0 + Ψ)/a is 30–100,
+/// needs no transcendental call.
+const ASINH_LINEAR_L: f64 = 20.0;
 
-/// `1/sqrt(1 + e^(−2l))` without overflow.
-fn logistic_root(l: f64) -> f64 {
-    if l > 0.0 {
-        1.0 / (1.0 + (-2.0 * l).exp()).sqrt()
+/// `asinh(e^l)` and its derivative `1/sqrt(1 + e^(−2l))`, without overflow for either sign of
+/// `l`, sharing one exponential.
+#[inline]
+pub(crate) fn asinh_exp_and_slope(l: f64) -> (f64, f64) {
+    if l > ASINH_LINEAR_L {
+        // what the next branch gives, exactly
+        (l + std::f64::consts::LN_2, 1.0)
+    } else if l > 0.0 {
+        let e = (-2.0 * l).exp();
+        let r = (1.0 + e).sqrt();
+        (l + (1.0 + r).ln(), 1.0 / r)
     } else {
         let e = l.exp();
-        e / (1.0 + e * e).sqrt()
+        (e.asinh(), e / (1.0 + e * e).sqrt())
     }
 }
 
@@ -55,7 +62,7 @@ impl FrictionForm {
     pub fn friction(self, mu0: f64, a: f64, v0: f64, x: f64, psi: f64) -> f64 {
         match self {
             Self::Classic => mu0 + a * (x - v0.ln()) + psi,
-            Self::Regularized => a * asinh_exp(x - (2.0 * v0).ln() + (mu0 + psi) / a),
+            Self::Regularized => a * asinh_exp_and_slope(x - (2.0 * v0).ln() + (mu0 + psi) / a).0,
         }
     }
 
@@ -64,7 +71,7 @@ impl FrictionForm {
             Self::Classic => FrictionEval { f_x: a, f_psi: 1.0, d_fx_dl: 0.0, d_fpsi_dl: 0.0 },
             Self::Regularized => {
                 let l = x - (2.0 * v0).ln() + (mu0 + psi) / a;
-                let c = logistic_root(l);
+                let c = asinh_exp_and_slope(l).1;
                 // dc/dL = c (1 − c²)
                 let dc = c * (1.0 - c * c);
                 FrictionEval { f_x: a * c, f_psi: c, d_fx_dl: a * dc, d_fpsi_dl: dc }
@@ -95,6 +102,19 @@ impl FrictionForm {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// The shortcut above l = 20 is bit-identical to the full formula.
+    #[test]
+    fn the_asinh_shortcut_is_exact() {
+        for l in [20.0 + 1e-9, 20.5, 35.0, 80.0, 700.0] {
+            let r = (1.0 + (-2.0f64 * l).exp()).sqrt();
+            let (v, c) = asinh_exp_and_slope(l);
+            assert_eq!((v.to_bits(), c.to_bits()), ((l + (1.0 + r).ln()).to_bits(), (1.0 / r).to_bits()), "l {l}");
+        }
+        // far below zero: asinh(e^l) ≈ e^l to full relative precision, not 0
+        let (v, _) = asinh_exp_and_slope(-50.0);
+        assert!((v / (-50.0f64).exp() - 1.0).abs() < 1e-15);
+    }
 
     #[test]
     fn regularized_matches_classic_far_from_zero_and_inverts() {
