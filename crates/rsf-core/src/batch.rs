@@ -1,7 +1,8 @@
 //! The per-element kernels over many elements at once, structure of arrays: one slice per
 //! parameter and per variable, caller-owned outputs, no allocation, no coupling between
-//! elements (the elastic interaction stays in the host). Elements are independent, so a host
-//! that wants threads splits the slices into chunks and calls these on each.
+//! elements (the elastic interaction stays in the host). Elements are independent:
+//! [`rates_parallel`] splits them into chunks over scoped threads (worth it from about 10^4
+//! elements; a host with its own thread pool splits the slices the same way).
 
 use crate::element::{SlipRateError, friction, ln_theta_rate, psi_term, solve_slip_rate};
 use crate::{FrictionForm, StateLaw};
@@ -59,8 +60,12 @@ impl Elements<'_> {
     }
 }
 
-fn same(n: usize, name: &'static str, len: usize) -> Result<(), BatchError> {
-    if len == n { Ok(()) } else { Err(BatchError::Length(name)) }
+/// Every (name, length) equals `n`, or the first that does not is named.
+fn same_lengths(n: usize, lens: &[(&'static str, usize)]) -> Result<(), BatchError> {
+    match lens.iter().find(|(_, len)| *len != n) {
+        Some((name, _)) => Err(BatchError::Length(name)),
+        None => Ok(()),
+    }
 }
 
 /// Friction, its partials and the state rate of every element: for element i at
@@ -78,16 +83,17 @@ pub fn rates<L: StateLaw>(
     ln_theta_rate_out: &mut [f64],
 ) -> Result<(), BatchError> {
     let n = p.count()?;
-    for (name, len) in [
-        ("ln_v", ln_v.len()),
-        ("ln_theta", ln_theta.len()),
-        ("friction", friction_out.len()),
-        ("d_ln_v", d_ln_v.len()),
-        ("d_psi", d_psi.len()),
-        ("ln_theta_rate", ln_theta_rate_out.len()),
-    ] {
-        same(n, name, len)?;
-    }
+    same_lengths(
+        n,
+        &[
+            ("ln_v", ln_v.len()),
+            ("ln_theta", ln_theta.len()),
+            ("friction", friction_out.len()),
+            ("d_ln_v", d_ln_v.len()),
+            ("d_psi", d_psi.len()),
+            ("ln_theta_rate", ln_theta_rate_out.len()),
+        ],
+    )?;
     for i in 0..n {
         let psi = psi_term(p.b[i], p.v0[i], p.dc[i], law.theta_scale(), ln_theta[i]);
         let f = friction(form, p.f0[i], p.a[i], p.v0[i], ln_v[i], psi);
@@ -97,6 +103,60 @@ pub fn rates<L: StateLaw>(
         ln_theta_rate_out[i] = ln_theta_rate(law, ln_v[i], ln_theta[i], p.dc[i], p.b[i]);
     }
     Ok(())
+}
+
+/// [`rates`] over `threads` scoped threads, each on a contiguous chunk of the elements (the
+/// result is the same as with one thread, element by element).
+#[allow(clippy::too_many_arguments)]
+pub fn rates_parallel<L: StateLaw>(
+    form: FrictionForm,
+    law: &L,
+    p: &Elements,
+    ln_v: &[f64],
+    ln_theta: &[f64],
+    friction_out: &mut [f64],
+    d_ln_v: &mut [f64],
+    d_psi: &mut [f64],
+    ln_theta_rate_out: &mut [f64],
+    threads: usize,
+) -> Result<(), BatchError> {
+    let n = p.count()?;
+    same_lengths(
+        n,
+        &[
+            ("ln_v", ln_v.len()),
+            ("ln_theta", ln_theta.len()),
+            ("friction", friction_out.len()),
+            ("d_ln_v", d_ln_v.len()),
+            ("d_psi", d_psi.len()),
+            ("ln_theta_rate", ln_theta_rate_out.len()),
+        ],
+    )?;
+    let chunk = n.div_ceil(threads.max(1)).max(1);
+    std::thread::scope(|s| {
+        let outs = friction_out
+            .chunks_mut(chunk)
+            .zip(d_ln_v.chunks_mut(chunk))
+            .zip(d_psi.chunks_mut(chunk))
+            .zip(ln_theta_rate_out.chunks_mut(chunk));
+        let handles: Vec<_> = outs
+            .enumerate()
+            .map(|(c, (((f, fx), fp), r))| {
+                let r0 = c * chunk;
+                let r1 = r0 + f.len();
+                let sub = Elements {
+                    f0: &p.f0[r0..r1],
+                    a: &p.a[r0..r1],
+                    v0: &p.v0[r0..r1],
+                    b: &p.b[r0..r1],
+                    dc: &p.dc[r0..r1],
+                };
+                let (x, z) = (&ln_v[r0..r1], &ln_theta[r0..r1]);
+                s.spawn(move || rates(form, law, &sub, x, z, f, fx, fp, r))
+            })
+            .collect();
+        handles.into_iter().try_for_each(|h| h.join().expect("a batch thread panicked"))
+    })
 }
 
 /// The slip rate of every element from the quasi-dynamic balance `τ − ηV = σ f(V, θ)`:
@@ -114,15 +174,16 @@ pub fn solve_slip_rates<L: StateLaw>(
     ln_v: &mut [f64],
 ) -> Result<u64, BatchError> {
     let n = p.count()?;
-    for (name, len) in [
-        ("ln_theta", ln_theta.len()),
-        ("tau", tau.len()),
-        ("sigma", sigma.len()),
-        ("eta", eta.len()),
-        ("ln_v", ln_v.len()),
-    ] {
-        same(n, name, len)?;
-    }
+    same_lengths(
+        n,
+        &[
+            ("ln_theta", ln_theta.len()),
+            ("tau", tau.len()),
+            ("sigma", sigma.len()),
+            ("eta", eta.len()),
+            ("ln_v", ln_v.len()),
+        ],
+    )?;
     let mut iterations = 0u64;
     for i in 0..n {
         let psi = psi_term(p.b[i], p.v0[i], p.dc[i], law.theta_scale(), ln_theta[i]);
@@ -165,6 +226,12 @@ mod tests {
         solve_slip_rates(form, &Aging, &p, &ln_theta, &tau, &sigma, &eta, &mut guess).unwrap();
         for i in 0..n {
             assert!((guess[i] - ln_v[i]).abs() < 1e-9);
+        }
+        // the parallel batch gives the same numbers, for any thread count
+        for threads in [1, 2, 3, 8] {
+            let (mut f2, mut fx2, mut fp2, mut r2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            rates_parallel(form, &Aging, &p, &ln_v, &ln_theta, &mut f2, &mut fx2, &mut fp2, &mut r2, threads).unwrap();
+            assert_eq!((&f2, &fx2, &fp2, &r2), (&f, &fx, &fp, &r), "{threads} threads");
         }
         let short = vec![0.0; n - 1];
         assert_eq!(

@@ -57,16 +57,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     eprintln!("BP1-QD: {} cells of {:.1} m, {} yr, rtol {:e}", o.cells, 40e3 / o.cells as f64, o.years, o.rtol);
     let r = run_with(p, &o)?;
-    println!("| # | onset (yr) | interval (yr) | peak V (m/s) | surface slip (m) | nucleation (km) |");
-    println!("|---|---|---|---|---|---|");
+    println!("| # | onset (yr) | interval (yr) | peak V (m/s) | peak at (km) | surface slip (m) | nucleation (km) |");
+    println!("|---|---|---|---|---|---|---|");
     let mut prev: Option<f64> = None;
     for (i, e) in r.catalogue.events.iter().enumerate() {
         let on = e.onset_s / rsf_cycle::YEAR;
         println!(
-            "| {} | {on:.2} | {} | {:.3} | {:.3} | {:.2} |",
+            "| {} | {on:.2} | {} | {:.3} | {:.2} | {:.3} | {:.2} |",
             i + 1,
             prev.map_or("–".into(), |p| format!("{:.2}", on - p)),
             e.peak_v,
+            e.peak_depth_m / 1e3,
             e.surface_slip,
             e.nucleation_depth_m / 1e3
         );

@@ -19,6 +19,8 @@ pub struct Event {
     pub surface_slip: f64,
     /// Depth of the maximum slip rate at onset, m.
     pub nucleation_depth_m: f64,
+    /// Depth where the peak slip rate was reached, m.
+    pub peak_depth_m: f64,
 }
 
 /// Watches the fault-wide maximum slip rate step by step.
@@ -47,10 +49,13 @@ impl Catalogue {
                 peak_v: ln_v_max.exp(),
                 surface_slip: 0.0,
                 nucleation_depth_m: depth_of_max,
+                peak_depth_m: depth_of_max,
             });
         } else if open {
             let e = self.events.last_mut().expect("an open event");
-            e.peak_v = e.peak_v.max(ln_v_max.exp());
+            if ln_v_max.exp() > e.peak_v {
+                (e.peak_v, e.peak_depth_m) = (ln_v_max.exp(), depth_of_max);
+            }
             e.surface_slip = surface_slip - self.surface_at_onset;
             if ln_v_max < thr {
                 e.end_s = Some(t);
@@ -100,6 +105,7 @@ mod tests {
         assert!((e.onset_s - 11.0).abs() < 1e-9, "{e:?}");
         assert!((e.peak_v - 3.0).abs() < 1e-12 && (e.surface_slip - 2.4).abs() < 1e-12);
         assert_eq!(e.nucleation_depth_m, 1.2e4);
+        assert_eq!(e.peak_depth_m, 0.0);
         assert_eq!(e.end_s, Some(200.0));
     }
 }
