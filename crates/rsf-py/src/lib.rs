@@ -44,16 +44,30 @@ fn solution_dict<'py>(py: Python<'py>, sol: rsf_solvers::Solution) -> PyResult<B
 }
 
 /// Solves a protocol given as TOML text (the format of `rsf simulate`); `base_dir` resolves a
-/// measured record's path. Returns the solution's columns as numpy arrays.
+/// measured record's path. With `time` (s) and `load_point` (µm) arrays the load point follows
+/// them instead of the protocol's loading (piecewise linear, as a record file), with output at
+/// those times. Returns the solution's columns as numpy arrays.
 #[pyfunction]
-#[pyo3(signature = (toml_text, base_dir=None, name="protocol.toml"))]
+#[pyo3(signature = (toml_text, base_dir=None, name="protocol.toml", time=None, load_point=None))]
 fn simulate_toml<'py>(
     py: Python<'py>,
     toml_text: &str,
     base_dir: Option<&str>,
     name: &str,
+    time: Option<PyReadonlyArray1<f64>>,
+    load_point: Option<PyReadonlyArray1<f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let p = rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    let mut p = rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    match (time, load_point) {
+        (None, None) => {}
+        (Some(t), Some(x)) => {
+            let rec = rsf_core::LoadRecord { time: t.as_slice()?.to_vec(), load_point: x.as_slice()?.to_vec() };
+            rec.validate().map_err(|e| value_error(format!("load-point arrays: {e}")))?;
+            p.problem.output = rsf_solvers::OutputTimes::Times(rec.time.clone());
+            p.problem.loading = rsf_core::Loading::Record(rec);
+        }
+        _ => return Err(value_error("give both time and load_point, or neither")),
+    }
     let sol = py.detach(|| p.method.solve(&p.problem)).map_err(value_error)?;
     solution_dict(py, sol)
 }

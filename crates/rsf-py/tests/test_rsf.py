@@ -50,6 +50,48 @@ def test_simulate_from_toml_text_and_its_errors():
         rsf.simulate(text.replace("a = 0.013", "a = -0.013", 1))
 
 
+def test_a_measured_load_point_drives_the_model():
+    # breaks on the sample grid: the record's piecewise-linear load point is the protocol's own
+    text = """[model]
+mu0 = 0.65
+v0 = 1.0
+a = 0.013
+stiffness = 0.065
+
+[[model.state]]
+law = "slip"
+b = 0.016
+dc = 2.07
+
+[loading]
+v_init = 3.0
+
+[[loading.segment]]
+v = 3.0
+duration = 4.0
+
+[[loading.segment]]
+v = 0.003
+duration = 100.0
+
+[output]
+dt = 0.5
+
+[solver]
+method = "auto"
+rtol = 1e-10
+atol = 1e-12
+"""
+    ref = rsf.simulate(text)
+    out = rsf.simulate(text, time=ref["time_s"], load_point=ref["load_point_um"])
+    assert np.array_equal(out["time_s"], ref["time_s"])
+    assert np.max(np.abs(out["mu"] - ref["mu"])) < 1e-8
+    with pytest.raises(ValueError, match="both time and load_point"):
+        rsf.simulate(text, time=ref["time_s"])
+    with pytest.raises(ValueError, match="load-point arrays"):
+        rsf.simulate(text, time=ref["time_s"][::-1].copy(), load_point=ref["load_point_um"])
+
+
 def test_fit_equals_the_cli():
     rec = rsf.read_record(BASALT, **COLS)
     assert rec["time_s"].shape == rec["mu"].shape and len(rec["time_s"]) == 5849

@@ -24,8 +24,12 @@ from . import _rsf
 __all__ = ["simulate", "read_record", "fit", "diagnose"]
 
 
-def simulate(protocol: str | os.PathLike) -> dict[str, Any]:
+def simulate(protocol: str | os.PathLike, time=None, load_point=None) -> dict[str, Any]:
     """Solves a protocol (a TOML file path, or TOML text) exactly as ``rsf simulate`` does.
+
+    With ``time`` (s) and ``load_point`` (µm) arrays, a measured load point drives the model
+    instead of the protocol's loading (piecewise linear between samples), with output at
+    ``time``; the protocol then supplies the model, ``v_init`` and the solver.
 
     Returns a dict of numpy arrays: ``time_s``, ``load_point_um``, ``mu``,
     ``slip_rate_um_s``, ``slip_um``, ``theta_s`` (rows × state variables), plus
@@ -34,12 +38,16 @@ def simulate(protocol: str | os.PathLike) -> dict[str, Any]:
     failed solve.
     """
     text = os.fspath(protocol)
+    arrays = {}
+    if time is not None or load_point is not None:
+        arrays = dict(time=None if time is None else np.ascontiguousarray(time, dtype=np.float64),
+                      load_point=None if load_point is None else np.ascontiguousarray(load_point, dtype=np.float64))
     if "\n" not in text and os.path.exists(text):
         with open(text, encoding="utf-8") as f:
             body = f.read()
         base = os.path.dirname(os.path.abspath(text))
-        return _rsf.simulate_toml(body, base, text)
-    return _rsf.simulate_toml(text, None, "protocol.toml")
+        return _rsf.simulate_toml(body, base, text, **arrays)
+    return _rsf.simulate_toml(text, None, "protocol.toml", **arrays)
 
 
 def read_record(path: str | os.PathLike, time_col: str = "time_s", lp_col: str = "load_point_um",
