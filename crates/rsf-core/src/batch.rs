@@ -68,6 +68,12 @@ fn same_lengths(n: usize, lens: &[(&'static str, usize)]) -> Result<(), BatchErr
     }
 }
 
+/// The lengths of `rates`' variable and output slices against the element count.
+fn rate_lengths(n: usize, lens: [usize; 6]) -> Result<(), BatchError> {
+    let names = ["ln_v", "ln_theta", "friction", "d_ln_v", "d_psi", "ln_theta_rate"];
+    same_lengths(n, &std::array::from_fn::<_, 6, _>(|i| (names[i], lens[i])))
+}
+
 /// Friction, its partials and the state rate of every element: for element i at
 /// `ln_v[i]`, `ln_theta[i]`, writes f, ∂f/∂ln V, ∂f/∂Ψ and d ln θ/dt into the output slices.
 #[allow(clippy::too_many_arguments)]
@@ -83,16 +89,9 @@ pub fn rates<L: StateLaw>(
     ln_theta_rate_out: &mut [f64],
 ) -> Result<(), BatchError> {
     let n = p.count()?;
-    same_lengths(
+    rate_lengths(
         n,
-        &[
-            ("ln_v", ln_v.len()),
-            ("ln_theta", ln_theta.len()),
-            ("friction", friction_out.len()),
-            ("d_ln_v", d_ln_v.len()),
-            ("d_psi", d_psi.len()),
-            ("ln_theta_rate", ln_theta_rate_out.len()),
-        ],
+        [ln_v.len(), ln_theta.len(), friction_out.len(), d_ln_v.len(), d_psi.len(), ln_theta_rate_out.len()],
     )?;
     for i in 0..n {
         let psi = psi_term(p.b[i], p.v0[i], p.dc[i], law.theta_scale(), ln_theta[i]);
@@ -121,16 +120,9 @@ pub fn rates_parallel<L: StateLaw>(
     threads: usize,
 ) -> Result<(), BatchError> {
     let n = p.count()?;
-    same_lengths(
+    rate_lengths(
         n,
-        &[
-            ("ln_v", ln_v.len()),
-            ("ln_theta", ln_theta.len()),
-            ("friction", friction_out.len()),
-            ("d_ln_v", d_ln_v.len()),
-            ("d_psi", d_psi.len()),
-            ("ln_theta_rate", ln_theta_rate_out.len()),
-        ],
+        [ln_v.len(), ln_theta.len(), friction_out.len(), d_ln_v.len(), d_psi.len(), ln_theta_rate_out.len()],
     )?;
     let chunk = n.div_ceil(threads.max(1)).max(1);
     std::thread::scope(|s| {

@@ -9,8 +9,7 @@
 //! Coefficients: Dormand & Prince (1980); dense output and controller: Hairer, Nørsett &
 //! Wanner, Solving ODEs I, 2nd ed., II.5–II.6 (code DOPRI5).
 
-use crate::erk::{ExplicitPair, integrate};
-use crate::ode::{IntegrationError, OdeSystem, Reached, StepStats};
+use crate::erk::ExplicitPair;
 use nalgebra::SVector;
 
 crate::ode::integrator!(
@@ -18,20 +17,8 @@ crate::ode::integrator!(
     /// [`Tsit5`](crate::Tsit5) for comparison).
     Dopri5,
     "dopri5",
-    run
+    explicit
 );
-
-/// One piece with the shared explicit stepper.
-fn run<const D: usize, S: OdeSystem<D>>(
-    m: &Dopri5,
-    sys: &S,
-    piece: (f64, SVector<f64, D>, f64, f64),
-    t_out: &[f64],
-    out: &mut impl FnMut(f64, &SVector<f64, D>),
-    stats: &mut StepStats,
-) -> Result<Reached<D>, IntegrationError> {
-    integrate::<Dopri5, D, S>((&m.tol, m.max_steps), sys, piece, t_out, out, stats, false)
-}
 
 // The nodes c_i are not needed: the systems are autonomous within a piece.
 const A21: f64 = 1.0 / 5.0;

@@ -139,10 +139,25 @@ pub(crate) enum Reached<const D: usize> {
 }
 
 /// Declares a built-in method: the struct (tolerances and step budget), `new(rtol, atol)` and
-/// its [`Integrator`] implementation, which hands a piece to `$run(&self, sys, (t0, y0, t1,
-/// h0), t_out, out, stats)` — a stepper function returning [`Reached`].
+/// its [`Integrator`] implementation, which hands each piece to a stepper: `explicit` (the
+/// shared explicit stepper with the type's own [`ExplicitPair`](crate::erk::ExplicitPair)
+/// coefficients), `rosenbrock TABLEAU`, or a function `run(&self, sys, (t0, y0, t1, h0), t_out,
+/// out, stats)` returning [`Reached`].
 macro_rules! integrator {
+    ($(#[$doc:meta])* $ty:ident, $name:expr, explicit) => {
+        $crate::ode::integrator!(@define $(#[$doc])* $ty, $name, |m, sys, piece, t_out, out, stats|
+            $crate::erk::integrate::<$ty, D, S>((&m.tol, m.max_steps), sys, piece, t_out, out, stats, false));
+    };
+    ($(#[$doc:meta])* $ty:ident, $name:expr, rosenbrock $tab:path) => {
+        $crate::ode::integrator!(@define $(#[$doc])* $ty, $name, |m, sys, piece, t_out, out, stats|
+            $crate::rosenbrock::integrate(&$tab, (&m.tol, m.max_steps), sys, piece, t_out, out, stats, false));
+    };
     ($(#[$doc:meta])* $ty:ident, $name:expr, $run:path) => {
+        $crate::ode::integrator!(@define $(#[$doc])* $ty, $name, |m, sys, piece, t_out, out, stats|
+            $run(m, sys, piece, t_out, out, stats));
+    };
+    (@define $(#[$doc:meta])* $ty:ident, $name:expr,
+        |$m:ident, $sys:ident, $piece:ident, $t_out:ident, $out:ident, $stats:ident| $call:expr) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug)]
         pub struct $ty {
@@ -168,16 +183,17 @@ macro_rules! integrator {
             }
             fn integrate<const D: usize, S: $crate::ode::OdeSystem<D>>(
                 &self,
-                sys: &S,
+                $sys: &S,
                 t0: f64,
                 y0: nalgebra::SVector<f64, D>,
                 t1: f64,
                 h0: f64,
-                t_out: &[f64],
-                out: &mut impl FnMut(f64, &nalgebra::SVector<f64, D>),
-                stats: &mut $crate::ode::StepStats,
+                $t_out: &[f64],
+                $out: &mut impl FnMut(f64, &nalgebra::SVector<f64, D>),
+                $stats: &mut $crate::ode::StepStats,
             ) -> Result<$crate::ode::Integrated<D>, $crate::ode::IntegrationError> {
-                match $run(self, sys, (t0, y0, t1, h0), t_out, out, stats)? {
+                let ($m, $piece) = (self, (t0, y0, t1, h0));
+                match $call? {
                     $crate::ode::Reached::End(i) => Ok(i),
                     $crate::ode::Reached::Switch { .. } => unreachable!("only the automatic method switches"),
                 }

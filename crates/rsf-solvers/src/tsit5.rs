@@ -6,8 +6,7 @@
 //! minimise the principal error), so it takes fewer steps at the same tolerance; the measured
 //! gain on rsf's problems is in docs/BENCHMARKS.md.
 
-use crate::erk::{ExplicitPair, integrate};
-use crate::ode::{IntegrationError, OdeSystem, Reached, StepStats};
+use crate::erk::ExplicitPair;
 use crate::tableau::tsit5::{A, E, R};
 use nalgebra::SVector;
 
@@ -15,20 +14,8 @@ crate::ode::integrator!(
     /// Explicit Tsitouras 5(4) with its free 4th-order dense output, for non-stiff problems.
     Tsit5,
     "tsit5",
-    run
+    explicit
 );
-
-/// One piece with the shared explicit stepper.
-fn run<const D: usize, S: OdeSystem<D>>(
-    m: &Tsit5,
-    sys: &S,
-    piece: (f64, SVector<f64, D>, f64, f64),
-    t_out: &[f64],
-    out: &mut impl FnMut(f64, &SVector<f64, D>),
-    stats: &mut StepStats,
-) -> Result<Reached<D>, IntegrationError> {
-    integrate::<Tsit5, D, S>((&m.tol, m.max_steps), sys, piece, t_out, out, stats, false)
-}
 
 impl ExplicitPair for Tsit5 {
     const A: [[f64; 6]; 6] = A;
