@@ -18,12 +18,12 @@ struct Nd<'a> {
     ratio: f64,
 }
 impl OdeSystem<2> for Nd<'_> {
-    fn rhs(&self, y: &SVector<f64, 2>) -> SVector<f64, 2> {
+    fn rhs(&self, _: f64, y: &SVector<f64, 2>) -> SVector<f64, 2> {
         let mut d = SVector::<f64, 2>::zeros();
         self.nd.rhs(self.ratio, y.as_slice(), d.as_mut_slice());
         d
     }
-    fn rhs_and_jacobian(&self, _: &SVector<f64, 2>) -> (SVector<f64, 2>, SMatrix<f64, 2, 2>) {
+    fn rhs_and_jacobian(&self, _: f64, _: &SVector<f64, 2>) -> (SVector<f64, 2>, SMatrix<f64, 2, 2>) {
         unimplemented!("explicit integration only")
     }
     /// log variables: absolute error control, as in the dimensional solver

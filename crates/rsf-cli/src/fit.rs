@@ -46,6 +46,13 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     let mut o = FitOptions::new(laws, a.stiffness);
     o.fit_stiffness = a.fit_stiffness;
     o.fit_slip_trend = a.fit_slip_trend;
+    o.alpha = match a.fit_alpha.as_deref() {
+        None => rsf_fit::fit::AlphaFit::Fixed,
+        Some("shared") => rsf_fit::fit::AlphaFit::Shared,
+        Some("per-state") => rsf_fit::fit::AlphaFit::PerState,
+        Some(other) => bail!("--fit-alpha `{other}`: use shared or per-state"),
+    };
+    o.normal_stress = a.read.normal_stress_mode()?;
     o.fix = a.fix.clone();
     o.mu0_per_segment = a.mu0_per_segment;
     o.window_um = a.window_um;
@@ -256,6 +263,7 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     let mut fo =
         FitOptions::new(vec![rsf_laws::law_by_name(&a.baseline, |_| None).map_err(anyhow::Error::msg)?], a.stiffness);
     fo.loading = loading(&a.loading)?;
+    fo.normal_stress = a.read.normal_stress_mode()?;
     if let Some(g) = a.wall_clock_guard {
         if !(g > 0.0) {
             bail!("--wall-clock-guard {g} must be positive (s)");

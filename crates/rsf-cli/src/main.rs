@@ -30,9 +30,14 @@ struct DataArgs {
     /// Shear-stress column; friction = shear / normal stress (needs --normal-stress or --normal-col).
     #[arg(long)]
     shear_col: Option<String>,
-    /// Normal-stress column, same units as the shear column.
+    /// Normal-stress column (MPa): divides --shear-col into friction; with a friction column, a
+    /// varying normal stress drives the model (see --normal-stress-mode).
     #[arg(long)]
     normal_col: Option<String>,
+    /// Whether the record's normal stress (--normal-col) drives the model: auto (when it varies
+    /// by more than 2% of its median), record (always) or constant (never).
+    #[arg(long, default_value = "auto")]
+    normal_stress_mode: String,
     /// Constant normal stress, same units as the shear column.
     #[arg(long)]
     normal_stress: Option<f64>,
@@ -55,6 +60,16 @@ struct DataArgs {
 }
 
 impl DataArgs {
+    fn normal_stress_mode(&self) -> Result<rsf_fit::fit::NormalStressMode> {
+        use rsf_fit::fit::NormalStressMode as M;
+        Ok(match self.normal_stress_mode.as_str() {
+            "auto" => M::Auto,
+            "record" => M::Record,
+            "constant" => M::Constant,
+            other => anyhow::bail!("--normal-stress-mode `{other}`: use auto, record or constant"),
+        })
+    }
+
     fn read(&self, path: &std::path::Path) -> Result<rsf_fit::data::Record> {
         use rsf_fit::data::{DispUnit, ReadOptions, TimeUnit};
         let opts = ReadOptions {
@@ -202,6 +217,10 @@ struct FitArgs {
     /// Fit a slip trend g (a friction term g·slip: gouge growth, wear, slip hardening) too.
     #[arg(long)]
     fit_slip_trend: bool,
+    /// Fit the Linker–Dieterich normal-stress coupling α: `shared` (one α for all states, the
+    /// default when the flag is given without a value) or `per-state`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "shared")]
+    fit_alpha: Option<String>,
     /// Constraint NAME=VALUE or NAME-NAME=VALUE (repeatable), e.g. a-b=-0.003, dc=10, vc1=0.01.
     #[arg(long)]
     fix: Vec<String>,
@@ -255,7 +274,8 @@ struct FitArgs {
 
 const SIMULATE_HELP: &str = "Simulate a spring-slider protocol described in a TOML file.
 
-Output CSV columns: time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s,...].
+Output CSV columns: time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s,...]
+[,peak_slip_rate_um_s][,normal_stress_mpa when the normal stress varies].
 t = 0, load point 0 and slip 0 at the start of the first segment; samples at t = 0, dt, 2dt, ...
 and at the end of the last segment (for a record: at the record's own times).
 
@@ -267,6 +287,8 @@ v0 = 1.0            # reference slip rate, µm/s
 a = 0.013           # direct effect
 stiffness = 0.065   # k = machine stiffness / normal stress, 1/µm; inf imposes V = V_lp
 eta = 0.0           # optional radiation damping, friction per µm/s (default 0)
+normal_stress = 10.0 # optional σ_ref, MPa: the initial normal stress and the σ k is stated at
+                    # (required when a segment changes the normal stress)
 form = \"classic\"    # optional: \"classic\" mu0 + a ln(V/V0) + ... or \"regularized\" (asinh)
 
 [[model.state]]     # one table per state variable, N >= 1; laws may differ
@@ -275,6 +297,7 @@ b = 0.016
 dc = 2.07           # µm
 vc = 1e-3           # µm/s, kato-tullis only
 c = 2.0             # nagata only
+alpha = 0.0         # optional Linker–Dieterich coupling: dθ/dt gains −(α θ/(b σ)) dσ/dt
 
 [loading]
 v_init = 3.0        # µm/s; the system starts in steady state at this slip rate
@@ -282,11 +305,14 @@ v_init = 3.0        # µm/s; the system starts in steady state at this slip rate
 [[loading.segment]] # in order; v and exactly one of duration (s) / displacement (µm)
 v = 0.003           # µm/s; 0 = hold (a hold needs a duration)
 duration = 500.0
+# normal_stress = 12.0      # MPa: step σ at this segment's start (τ continuous, θ ← θ (σ⁻/σ⁺)^(α/b))
+# normal_stress_rate = 0.1  # MPa/s: ramp σ through this segment
 # or, instead of segments, a measured load-point record:
 # record = \"run.csv\"            # relative to the protocol file; piecewise linear
 # time_column = \"time_s\"        # optional column names
 # load_point_column = \"load_point_um\"
 # friction_column = \"mu\"        # optional measured friction: plotted, and its misfit reported
+# normal_stress_column = \"sn\"   # optional measured normal stress (MPa) driving σ(t)
 
 [output]
 dt = 0.02           # s; optional for a record (default: the record's own times)

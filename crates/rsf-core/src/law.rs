@@ -27,14 +27,22 @@ pub struct StateArgs<R> {
     pub dc: R,
     /// This state variable's b (dimensionless); Nagata's law divides its stress-rate term by it.
     pub b: R,
-    /// Shear-stress rate dτ/dt = k (V_lp − V), friction units per s.
+    /// Shear-stress rate over normal stress, (dτ/dt)/σ = k (V_lp − V) σ_ref/σ, 1/s (friction
+    /// units per s; k (V_lp − V) at constant normal stress).
     pub stress_rate: R,
+    /// Normal stress σ, MPa (the model's `normal_stress`; 1 when the model leaves it unset, in
+    /// which case it is constant). Linker–Dieterich coupling is added by the solver, not the
+    /// law; a law reads σ only for its own σ-dependence.
+    pub normal_stress: R,
+    /// Normal-stress rate dσ/dt, MPa/s (0 at constant normal stress).
+    pub normal_stress_rate: R,
 }
 
 impl StateArgs<f64> {
-    /// Arguments with zero stress rate (steady or imposed-velocity sliding).
+    /// Arguments with zero stress rate at unit normal stress (steady or imposed-velocity
+    /// sliding).
     pub fn new(v: f64, theta: f64, dc: f64, b: f64) -> Self {
-        Self { v, theta, dc, b, stress_rate: 0.0 }
+        Self { v, theta, dc, b, stress_rate: 0.0, normal_stress: 1.0, normal_stress_rate: 0.0 }
     }
 }
 
@@ -137,6 +145,8 @@ pub trait StateLaw: Debug + Clone + Send + Sync + 'static {
             dc: D5::from_re(s.dc).derivative(3),
             b: D5::from_re(s.b).derivative(4),
             stress_rate: D5::from_re(s.stress_rate).derivative(2),
+            normal_stress: D5::from_re(s.normal_stress),
+            normal_stress_rate: D5::from_re(s.normal_stress_rate),
         };
         let g = self.theta_rate(&args);
         let d = g.eps.unwrap_generic(nalgebra::Const::<5>, nalgebra::U1);

@@ -14,16 +14,24 @@ pub struct StateVariable {
     pub b: f64,
     /// Characteristic slip distance, µm.
     pub dc: f64,
+    /// Linker–Dieterich normal-stress coupling α ≥ 0 (dimensionless; 0 by default): the solver
+    /// adds −(α θ/(b σ)) dσ/dt to dθ/dt, so a step σ⁻ → σ⁺ maps θ to θ (σ⁻/σ⁺)^(α/b).
+    pub alpha: f64,
 }
 
 impl StateVariable {
     /// A state variable evolving by `law`.
     pub fn new<L: StateLaw>(law: L, b: f64, dc: f64) -> Self {
-        Self { law: Arc::new(law), b, dc }
+        Self { law: Arc::new(law), b, dc, alpha: 0.0 }
     }
     /// A state variable from an already shared law.
     pub fn from_shared(law: Arc<dyn DynStateLaw>, b: f64, dc: f64) -> Self {
-        Self { law, b, dc }
+        Self { law, b, dc, alpha: 0.0 }
+    }
+    /// Sets the Linker–Dieterich coupling α.
+    pub fn with_alpha(mut self, alpha: f64) -> Self {
+        self.alpha = alpha;
+        self
     }
 }
 
@@ -78,12 +86,35 @@ pub struct Model {
     pub slip_trend: f64,
     /// The state variables (N ≥ 1); laws may differ between them.
     pub states: Vec<StateVariable>,
+    /// Reference normal stress σ_ref, MPa: the initial normal stress, and the σ at which
+    /// `stiffness` = K/σ_ref is stated (K the machine stiffness, MPa/µm). `None`: σ is constant
+    /// and its value does not matter (laws see σ = 1).
+    pub normal_stress: Option<f64>,
 }
 
 impl Model {
     /// A model with no state variables yet (add them with [`with_state`](Self::with_state)).
     pub fn new(mu0: f64, v0: f64, a: f64, stiffness: f64) -> Self {
-        Self { mu0, v0, a, stiffness, eta: 0.0, form: FrictionForm::Classic, slip_trend: 0.0, states: Vec::new() }
+        Self {
+            mu0,
+            v0,
+            a,
+            stiffness,
+            eta: 0.0,
+            form: FrictionForm::Classic,
+            slip_trend: 0.0,
+            states: Vec::new(),
+            normal_stress: None,
+        }
+    }
+    /// Sets the reference (and initial) normal stress σ_ref, MPa.
+    pub fn with_normal_stress(mut self, sigma: f64) -> Self {
+        self.normal_stress = Some(sigma);
+        self
+    }
+    /// σ_ref in MPa, or 1 when the model leaves it unset.
+    pub fn sigma_ref(&self) -> f64 {
+        self.normal_stress.unwrap_or(1.0)
     }
     /// Adds a state variable.
     pub fn with_state(mut self, s: StateVariable) -> Self {
@@ -137,6 +168,11 @@ impl Model {
         if !self.slip_trend.is_finite() {
             return p("slip_trend", self.slip_trend, "must be finite (friction per µm)");
         }
+        if let Some(sn) = self.normal_stress {
+            if !(sn > 0.0 && sn.is_finite()) {
+                return p("normal_stress", sn, "must be positive and finite (MPa)");
+            }
+        }
         if self.states.is_empty() {
             return Err(ModelError::NoState);
         }
@@ -146,6 +182,12 @@ impl Model {
             }
             if !(s.dc > 0.0 && s.dc.is_finite()) {
                 return p(&format!("state[{}].dc", i + 1), s.dc, "must be positive and finite (µm)");
+            }
+            if !(s.alpha >= 0.0 && s.alpha.is_finite()) {
+                return p(&format!("state[{}].alpha", i + 1), s.alpha, "must be zero or positive and finite");
+            }
+            if s.alpha != 0.0 && s.b == 0.0 {
+                return p(&format!("state[{}].alpha", i + 1), s.alpha, "needs a non-zero b (the coupling is α/b)");
             }
             s.law.validate().map_err(|why| ModelError::Law { index: i + 1, law: s.law.name(), why })?;
         }

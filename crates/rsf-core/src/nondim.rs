@@ -63,7 +63,7 @@ impl<'a> Nondimensional<'a> {
         for (j, s) in m.states.iter().enumerate() {
             let theta_nd = y[1 + j].exp();
             let theta = s.dc * theta_nd / self.v_i;
-            let g = s.law.rate(&StateArgs { v, theta, dc: s.dc, b: s.b, stress_rate });
+            let g = s.law.rate(&StateArgs { stress_rate, ..StateArgs::new(v, theta, s.dc, s.b) });
             // d ln θ'/dT = (Dc_1/Dc_j) G / θ'
             let z = dc1 / s.dc * g / theta_nd;
             dy[1 + j] = z;

@@ -72,7 +72,8 @@ pub struct ReadOptions {
     pub mu_col: String,
     /// Shear-stress column; friction = shear / normal stress.
     pub shear_col: Option<String>,
-    /// Normal-stress column (same units as shear).
+    /// Normal-stress column (MPa; with a shear column, the same units as shear). Read with a
+    /// friction column too: a varying σ drives the forward model.
     pub normal_col: Option<String>,
     /// Constant normal stress (same units as shear), instead of a column.
     pub normal_stress: Option<f64>,
@@ -115,6 +116,9 @@ pub struct Record {
     pub load_point: Vec<f64>,
     /// Friction (shear stress / normal stress).
     pub mu: Vec<f64>,
+    /// Normal stress per sample, MPa (empty when the record has no normal-stress column).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub normal_stress: Vec<f64>,
     /// Where it came from.
     pub source: String,
     /// Rows dropped because their time repeated the previous row's
@@ -150,6 +154,7 @@ impl Record {
             time: self.time[i0..i1].to_vec(),
             load_point: self.load_point[i0..i1].to_vec(),
             mu: self.mu[i0..i1].to_vec(),
+            normal_stress: if self.normal_stress.is_empty() { vec![] } else { self.normal_stress[i0..i1].to_vec() },
             source: self.source.clone(),
             dropped_duplicate_times: self.dropped_duplicate_times,
         }
@@ -163,6 +168,7 @@ impl Record {
             time: keep(&self.time),
             load_point: keep(&self.load_point),
             mu: keep(&self.mu),
+            normal_stress: keep(&self.normal_stress),
             source: self.source.clone(),
             dropped_duplicate_times: self.dropped_duplicate_times,
         }
@@ -347,6 +353,11 @@ fn parse_lines(
         Mu(usize),
         Shear(usize, Result<usize, f64>),
     }
+    // a normal-stress column beside a friction column: read for σ(t)
+    let sigma_col = match (&opts.shear_col, &opts.normal_col) {
+        (None, Some(c)) => Some(find(c)?),
+        _ => None,
+    };
     let fric = match &opts.shear_col {
         Some(s) => {
             let si = find(s)?;
@@ -400,7 +411,7 @@ fn parse_lines(
                 }
                 let o = usize::from(cells.len() == names.len() + 1);
                 let needed: Vec<usize> = match &fric {
-                    Fric::Mu(i) => vec![ti, li, *i],
+                    Fric::Mu(i) => vec![ti, li, *i].into_iter().chain(sigma_col).collect(),
                     Fric::Shear(si, Ok(ni)) => vec![ti, li, *si, *ni],
                     Fric::Shear(si, Err(_)) => vec![ti, li, *si],
                 };
@@ -413,21 +424,31 @@ fn parse_lines(
         };
         let t = parse(&cells, ti + off, &opts.time_col, ln)? * tf;
         let x = parse(&cells, li + off, &opts.lp_col, ln)? * df;
+        let positive = |sn: f64| {
+            if sn > 0.0 {
+                Ok(sn)
+            } else {
+                Err(err(Some(ln + 1), opts.normal_col.as_deref(), format!("normal stress {sn} must be positive")))
+            }
+        };
+        let mut sigma = None;
         let mu = match &fric {
-            Fric::Mu(i) => parse(&cells, i + off, &opts.mu_col, ln)?,
+            Fric::Mu(i) => {
+                if let Some(ni) = sigma_col {
+                    sigma = Some(positive(parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?)?);
+                }
+                parse(&cells, i + off, &opts.mu_col, ln)?
+            }
             Fric::Shear(si, norm) => {
                 let tau = parse(&cells, si + off, opts.shear_col.as_deref().unwrap(), ln)?;
                 let sn = match norm {
-                    Ok(ni) => parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?,
+                    Ok(ni) => {
+                        let v = positive(parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?)?;
+                        sigma = Some(v);
+                        v
+                    }
                     Err(v) => *v,
                 };
-                if !(sn > 0.0) {
-                    return Err(err(
-                        Some(ln + 1),
-                        opts.normal_col.as_deref(),
-                        format!("normal stress {sn} must be positive"),
-                    ));
-                }
                 tau / sn
             }
         };
@@ -458,6 +479,9 @@ fn parse_lines(
         rec.time.push(t);
         rec.load_point.push(x);
         rec.mu.push(mu);
+        if let Some(sn) = sigma {
+            rec.normal_stress.push(sn);
+        }
     }
     if rec.len() < MIN_ROWS {
         return Err(err(None, None, format!("{} data rows; at least {MIN_ROWS} are needed", rec.len())));

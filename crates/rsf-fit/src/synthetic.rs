@@ -61,6 +61,7 @@ pub fn record(
         load_point: sol.load_point,
         mu,
         source: format!("synthetic (seed {seed})"),
+        normal_stress: vec![],
         dropped_duplicate_times: 0,
     })
 }

@@ -291,7 +291,7 @@ mod tests {
     fn jets_match_finite_differences() {
         for law in all() {
             for &(v, theta, sr) in &[(1.0, 3.0, 0.0), (0.01, 500.0, 1e-3), (30.0, 0.05, -0.2)] {
-                let s = StateArgs { v, theta, dc: 10.0, b: 0.01, stress_rate: sr };
+                let s = StateArgs { stress_rate: sr, ..StateArgs::new(v, theta, 10.0, 0.01) };
                 let j = law.jet(&s);
                 assert_relative_eq!(j.rate, law.rate(&s), max_relative = 1e-15);
                 let fd = |f: &dyn Fn(f64) -> StateArgs<f64>, x: f64| {

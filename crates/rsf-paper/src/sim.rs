@@ -51,6 +51,7 @@ pub fn run(
         output: OutputTimes::Times(times),
         max_slip_rate: 1e9,
         watch: Default::default(),
+        normal_stress: None,
     };
     Ok(res.method.solve(&problem)?)
 }

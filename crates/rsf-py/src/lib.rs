@@ -123,7 +123,7 @@ fn record(time: PyReadonlyArray1<f64>, lp: PyReadonlyArray1<f64>, mu: PyReadonly
             time[i]
         )));
     }
-    Ok(Record { time, load_point: lp, mu, source: "numpy arrays".into(), dropped_duplicate_times: 0 })
+    Ok(Record { time, load_point: lp, mu, source: "numpy arrays".into(), ..Default::default() })
 }
 
 fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {

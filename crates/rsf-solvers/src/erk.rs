@@ -51,10 +51,12 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
     let mut facold: f64 = 1e-4;
     let (mut t, mut y) = (t0, y0);
     let mut k = [SVector::<f64, D>::zeros(); 7];
-    k[0] = sys.rhs(&y);
+    k[0] = sys.rhs(t, &y);
     stats.rhs_evals += 1;
     let span = t1 - t0;
-    let mut h = if h0 > 0.0 { h0.min(span) } else { initial_step(sys, &y, &k[0], span, 5, tol, stats) };
+    let mut h = if h0 > 0.0 { h0.min(span) } else { initial_step(sys, t, &y, &k[0], span, 5, tol, stats) };
+    // the nodes c_i = Σ_j a_ij (a time-dependent system's stage times t + c_i h)
+    let c: [f64; 6] = std::array::from_fn(|i| a[i].iter().sum());
     let (mut next_out, mut reject, mut steps, mut stiff) = (0, false, 0u64, 0u32);
     loop {
         if steps >= max_steps {
@@ -70,7 +72,9 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
                 acc += k[j] * a[i - 1][j];
             }
             arg = y + acc * h;
-            k[i] = sys.rhs(&arg);
+            // the last stage is at t + h exactly (c7 = 1)
+            let ti = if i == 6 { t + h } else { t + c[i - 1] * h };
+            k[i] = sys.rhs(ti, &arg);
         }
         stats.rhs_evals += 6;
         // FSAL: the last stage's argument is the new solution; the one before it is y6

@@ -30,12 +30,14 @@
 
 use crate::solve::{OutputTimes, Problem};
 use crate::{Method, WatchOptions};
-use rsf_core::{FrictionForm, LoadRecord, Loading, Model, ModelError, Segment, StateVariable};
+use rsf_core::{FrictionForm, Loading, Model, ModelError, Segment, StateVariable};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
+
+pub use crate::record::{ReadRecord, RecordColumns, read_load_record};
 
 /// A parsed protocol: the problem and the chosen method.
 #[derive(Clone, Debug)]
@@ -107,6 +109,7 @@ struct RawModel {
     stiffness: S<f64>,
     eta: Option<S<f64>>,
     form: Option<S<String>>,
+    normal_stress: Option<S<f64>>,
     state: Option<Vec<S<RawState>>>,
 }
 
@@ -118,6 +121,7 @@ struct RawState {
     dc: S<f64>,
     vc: Option<S<f64>>,
     c: Option<S<f64>>,
+    alpha: Option<S<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -129,6 +133,7 @@ struct RawLoading {
     time_column: Option<String>,
     load_point_column: Option<String>,
     friction_column: Option<String>,
+    normal_stress_column: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -137,6 +142,8 @@ struct RawSegment {
     v: S<f64>,
     duration: Option<S<f64>>,
     displacement: Option<S<f64>>,
+    normal_stress: Option<S<f64>>,
+    normal_stress_rate: Option<S<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -202,6 +209,9 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     if let Some(eta) = &rm.eta {
         model.eta = put("eta", eta);
     }
+    if let Some(sn) = &rm.normal_stress {
+        model.normal_stress = Some(put("normal_stress", sn));
+    }
     if let Some(form) = &rm.form {
         model.form = match form.get_ref().as_str() {
             "classic" => FrictionForm::Classic,
@@ -256,7 +266,12 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         spans.insert(format!("state[{}].b", i + 1), s.b.span());
         spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
         state_spans.push(st.span());
-        model.states.push(StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref()));
+        let mut sv = StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref());
+        if let Some(alpha) = &s.alpha {
+            spans.insert(format!("state[{}].alpha", i + 1), alpha.span());
+            sv.alpha = *alpha.get_ref();
+        }
+        model.states.push(sv);
     }
     if let Err(e) = model.validate() {
         return Err(match &e {
@@ -279,6 +294,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         ));
     }
     let mut measured_friction = None;
+    let mut normal_stress = None;
     let (loading, is_record) = match (&rl.segment, &rl.record) {
         (Some(_), Some(r)) => {
             return Err(err(
@@ -318,6 +334,21 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                     }
                 };
                 end.duration().map_err(|m| err(Some(&sg.span()), &field, m))?;
+                let mut end = end;
+                if let Some(sn) = &s.normal_stress {
+                    end.normal_stress = Some(*sn.get_ref());
+                }
+                if let Some(r) = &s.normal_stress_rate {
+                    end.normal_stress_rate = *r.get_ref();
+                }
+                if end.changes_normal_stress() && model.normal_stress.is_none() {
+                    let span = s.normal_stress.as_ref().or(s.normal_stress_rate.as_ref()).map(|x| x.span());
+                    return Err(err(
+                        span.as_ref(),
+                        &field,
+                        "changes the normal stress: give `normal_stress` (σ_ref, MPa) in [model]".into(),
+                    ));
+                }
                 out.push(end);
             }
             if out.is_empty() {
@@ -333,10 +364,22 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             };
             let tcol = rl.time_column.as_deref().unwrap_or("time_s");
             let lcol = rl.load_point_column.as_deref().unwrap_or("load_point_um");
-            let (rec, mu) = read_load_record(&path, tcol, lcol, rl.friction_column.as_deref())
-                .map_err(|m| err(Some(&r.span()), "loading.record", m))?;
-            measured_friction = mu;
-            (Loading::Record(rec), true)
+            let cols = RecordColumns {
+                time: tcol,
+                load_point: lcol,
+                friction: rl.friction_column.as_deref(),
+                normal_stress: rl.normal_stress_column.as_deref(),
+            };
+            let read = read_load_record(&path, &cols).map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            measured_friction = read.friction;
+            if let Some(sn) = read.normal_stress {
+                if model.normal_stress.is_none() {
+                    // σ_ref defaults to the record's first normal stress
+                    model.normal_stress = Some(sn[0]);
+                }
+                normal_stress = Some(rsf_core::NormalStressRecord { time: read.load.time.clone(), sigma: sn });
+            }
+            (Loading::Record(read.load), true)
         }
     };
 
@@ -437,60 +480,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             WatchOptions { peak_slip_rate: o.peak_slip_rate.unwrap_or(false), event_slip_rate }
         }
     };
-    let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax, watch };
+    let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax, watch, normal_stress };
+    problem.pieces().map_err(|e| err(Some(&raw.loading.span()), "loading", e.to_string()))?;
     Ok(Protocol { problem, method, measured_friction })
-}
-
-/// Reads a load-point record: a delimited text file (comma- or tab-separated, detected from
-/// the header) whose header names `time_col` (s) and `lp_col` (µm), and optionally a friction
-/// column. Lines starting with `#` are skipped. Errors name the line and column.
-pub fn read_load_record(
-    path: &Path,
-    time_col: &str,
-    lp_col: &str,
-    mu_col: Option<&str>,
-) -> Result<(LoadRecord, Option<Vec<f64>>), String> {
-    let name = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
-    let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
-    let delim = if header.contains('\t') { '\t' } else { ',' };
-    let cols: Vec<&str> = header.split(delim).map(str::trim).collect();
-    let find = |c: &str| {
-        cols.iter()
-            .position(|h| *h == c)
-            .ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
-    };
-    let (ti, li) = (find(time_col)?, find(lp_col)?);
-    let mi = mu_col.map(find).transpose()?;
-    let mut rec = LoadRecord { time: Vec::new(), load_point: Vec::new() };
-    let mut mu = Vec::new();
-    for (ln, line) in lines {
-        let cells: Vec<&str> = line.split(delim).collect();
-        let get = |i: usize, c: &str| -> Result<f64, String> {
-            let cell = cells.get(i).ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?.trim();
-            let v: f64 =
-                cell.parse().map_err(|_| format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1))?;
-            if !v.is_finite() {
-                return Err(format!("{name}:{}: column `{c}`: {v} is not finite", ln + 1));
-            }
-            Ok(v)
-        };
-        let t = get(ti, time_col)?;
-        if let Some(&prev) = rec.time.last() {
-            if t <= prev {
-                return Err(format!(
-                    "{name}:{}: column `{time_col}`: time {t} does not increase (previous {prev})",
-                    ln + 1
-                ));
-            }
-        }
-        rec.time.push(t);
-        rec.load_point.push(get(li, lp_col)?);
-        if let (Some(i), Some(c)) = (mi, mu_col) {
-            mu.push(get(i, c)?);
-        }
-    }
-    rec.validate().map_err(|m| format!("{name}: {m}"))?;
-    Ok((rec, mi.map(|_| mu)))
 }

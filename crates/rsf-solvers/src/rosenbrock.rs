@@ -41,12 +41,19 @@ pub(crate) fn integrate<const S: usize, const R: usize, const D: usize, Sys: Ode
     let (mut t, mut y, mut h) = (t0, y0, h0);
     let (mut next_out, mut reject, mut steps, mut nonstiff) = (0, false, 0u64, 0u32);
     let expo = 1.0 / tab.err_order;
+    // stage nodes and γ sums, needed only when f depends on t
+    let mut nodes: Option<([f64; S], [f64; S])> = None;
     loop {
-        let (f0, jac) = sys.rhs_and_jacobian(&y);
+        let (f0, jac) = sys.rhs_and_jacobian(t, &y);
         stats.rhs_evals += 1;
         stats.jacobian_evals += 1;
+        let f_t = sys.time_derivative(t, &y);
+        let (c_node, d_sum) = match f_t {
+            Some(_) => *nodes.get_or_insert_with(|| tab.nodes()),
+            None => ([0.0; S], [0.0; S]),
+        };
         if h <= 0.0 {
-            h = initial_step(sys, &y, &f0, span, tab.err_order as i32, tol, stats);
+            h = initial_step(sys, t, &y, &f0, span, tab.err_order as i32, tol, stats);
         }
         // the dominant eigenvalue of J bounded by its row-sum norm (D ≤ 10: exact enough)
         let rho = if leave_when_nonstiff { jac.row_iter().map(|r| r.abs().sum()).fold(0.0, f64::max) } else { 0.0 };
@@ -63,7 +70,9 @@ pub(crate) fn integrate<const S: usize, const R: usize, const D: usize, Sys: Ode
             let ih = 1.0 / h;
             let mut k = [SVector::<f64, D>::zeros(); S];
             let mut arg = y;
-            k[0] = lu.solve(f0);
+            // a time-dependent system adds h d_i ∂f/∂t to stage i (Hairer & Wanner IV.7, 7.4')
+            let ft_term = |i: usize| f_t.map(|ft| ft * (h * d_sum[i])).unwrap_or_else(SVector::zeros);
+            k[0] = lu.solve(f0 + ft_term(0));
             for i in 1..S {
                 arg = y;
                 let mut rhs_c = SVector::<f64, D>::zeros();
@@ -71,7 +80,7 @@ pub(crate) fn integrate<const S: usize, const R: usize, const D: usize, Sys: Ode
                     arg += k[j] * tab.a[i][j];
                     rhs_c += k[j] * tab.c[i][j];
                 }
-                k[i] = lu.solve(sys.rhs(&arg) + rhs_c * ih);
+                k[i] = lu.solve(sys.rhs(t + c_node[i] * h, &arg) + rhs_c * ih + ft_term(i));
             }
             stats.rhs_evals += S as u64 - 1;
             // stiffly accurate: the last stage's argument plus its increment

@@ -1,10 +1,10 @@
 //! Problem → algorithm → solution for the spring-slider.
 
+use crate::Solution;
 use crate::ode::{IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
-use crate::watch::{SlipEvent, StepWatch, WatchOptions};
+use crate::watch::{StepWatch, WatchOptions};
 use nalgebra::{SMatrix, SVector};
-use rsf_core::{Loading, Model, ModelError, Piece, SpringSlider};
-use serde::Serialize;
+use rsf_core::{Loading, Model, ModelError, NormalStressRecord, Piece, SpringSlider, normal_stress_varies};
 use thiserror::Error;
 
 /// Largest number of state variables the solver is compiled for.
@@ -62,6 +62,9 @@ pub struct Problem {
     /// What to take from every integrator step besides the output rows: the peak slip rate
     /// between rows and an event catalogue ([`WatchOptions`]); off by default.
     pub watch: WatchOptions,
+    /// A measured normal-stress history (MPa, piecewise linear, spanning the loading) that
+    /// drives σ(t); `None`: σ follows the protocol segments, or stays at the model's σ_ref.
+    pub normal_stress: Option<NormalStressRecord>,
 }
 
 impl Problem {
@@ -75,7 +78,25 @@ impl Problem {
             output: OutputTimes::Every(dt),
             max_slip_rate: 1e9,
             watch: WatchOptions::default(),
+            normal_stress: None,
         }
+    }
+
+    /// The pieces of constant load-point velocity and normal-stress rate the solvers restart
+    /// at; the error names the bad segment or sample, or a varying σ with no σ_ref.
+    pub fn pieces(&self) -> Result<Vec<Piece>, SolveError> {
+        let pieces = self
+            .loading
+            .pieces_with(self.model.sigma_ref(), self.normal_stress.as_ref())
+            .map_err(SolveError::Loading)?;
+        if self.model.normal_stress.is_none() && normal_stress_varies(&pieces) {
+            return Err(SolveError::Input(
+                "the normal stress changes, so the model needs `normal_stress` (σ_ref, MPa: the stress at which \
+                 `stiffness` = K/σ is stated)"
+                    .into(),
+            ));
+        }
+        Ok(pieces)
     }
 }
 
@@ -144,89 +165,6 @@ pub enum SolveError {
     },
 }
 
-/// A solved forward problem: columns at the output times, and the work done.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct Solution {
-    /// Time, s.
-    pub time: Vec<f64>,
-    /// Load-point displacement, µm.
-    pub load_point: Vec<f64>,
-    /// Friction τ (shear stress over normal stress carried by the spring; = f(V, θ) + ηV).
-    pub mu: Vec<f64>,
-    /// Slip rate V, µm/s.
-    pub slip_rate: Vec<f64>,
-    /// Slip δ, µm (0 at the start).
-    pub slip: Vec<f64>,
-    /// θ_i, s: `theta[i][row]`.
-    pub theta: Vec<Vec<f64>>,
-    /// Integrator work.
-    pub stats: StepStats,
-    /// Integrator name.
-    pub method: String,
-    /// Tolerances used.
-    pub tolerances: Option<Tolerances>,
-    /// The largest slip rate since the previous row, µm/s, per row (empty unless
-    /// [`WatchOptions::peak_slip_rate`]).
-    pub peak_slip_rate: Vec<f64>,
-    /// Slip events (empty unless [`WatchOptions::event_slip_rate`]).
-    pub events: Vec<SlipEvent>,
-}
-
-impl Solution {
-    /// Number of rows.
-    pub fn len(&self) -> usize {
-        self.time.len()
-    }
-    /// Whether there are no rows.
-    pub fn is_empty(&self) -> bool {
-        self.time.is_empty()
-    }
-
-    /// Writes the CSV `time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s…]`
-    /// with shortest round-trip number formatting (`ryu`: exact, and fast enough that writing
-    /// does not dominate a solve).
-    pub fn write_csv<W: std::io::Write>(&self, w: W) -> std::io::Result<()> {
-        use std::io::Write;
-        let mut w = std::io::BufWriter::with_capacity(1 << 16, w);
-        write!(w, "time_s,load_point_um,mu,slip_rate_um_s,slip_um")?;
-        for i in 0..self.theta.len() {
-            write!(w, ",theta_{}_s", i + 1)?;
-        }
-        let peak = self.peak_slip_rate.len() == self.len() && !self.peak_slip_rate.is_empty();
-        if peak {
-            write!(w, ",peak_slip_rate_um_s")?;
-        }
-        writeln!(w)?;
-        let mut buf = ryu::Buffer::new();
-        let mut line: Vec<u8> = Vec::with_capacity(256);
-        let mut num = |line: &mut Vec<u8>, x: f64| {
-            // integers print without a fraction (0 rather than 0.0)
-            if x == x.trunc() && x.abs() < 1e15 {
-                let _ = write!(line, "{}", x as i64);
-            } else {
-                line.extend_from_slice(buf.format(x).as_bytes());
-            }
-        };
-        for r in 0..self.len() {
-            line.clear();
-            for (j, x) in [self.time[r], self.load_point[r], self.mu[r], self.slip_rate[r], self.slip[r]]
-                .into_iter()
-                .chain(self.theta.iter().map(|t| t[r]))
-                .chain(peak.then(|| self.peak_slip_rate[r]))
-                .enumerate()
-            {
-                if j > 0 {
-                    line.push(b',');
-                }
-                num(&mut line, x);
-            }
-            line.push(b'\n');
-            w.write_all(&line)?;
-        }
-        w.flush()
-    }
-}
-
 /// The spring-slider as an [`OdeSystem`] of dimension `D = N + 2`.
 struct SliderOde<'a, const D: usize> {
     sys: SpringSlider<'a>,
@@ -236,16 +174,23 @@ struct SliderOde<'a, const D: usize> {
 
 impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
     #[inline]
-    fn rhs(&self, y: &SVector<f64, D>) -> SVector<f64, D> {
+    fn rhs(&self, t: f64, y: &SVector<f64, D>) -> SVector<f64, D> {
         let mut dy = SVector::<f64, D>::zeros();
-        self.sys.rhs(y.as_slice(), dy.as_mut_slice());
+        self.sys.rhs(t, y.as_slice(), dy.as_mut_slice());
         dy
     }
-    fn rhs_and_jacobian(&self, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
+    fn rhs_and_jacobian(&self, t: f64, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
         let mut dy = SVector::<f64, D>::zeros();
         let mut j = SMatrix::<f64, D, D>::zeros();
-        self.sys.jacobian(y.as_slice(), dy.as_mut_slice(), j.as_mut_slice());
+        self.sys.jacobian(t, y.as_slice(), dy.as_mut_slice(), j.as_mut_slice());
         (dy, j)
+    }
+    fn time_derivative(&self, t: f64, y: &SVector<f64, D>) -> Option<SVector<f64, D>> {
+        self.sys.time_dependent().then(|| {
+            let mut ft = SVector::<f64, D>::zeros();
+            self.sys.time_derivative(t, y.as_slice(), ft.as_mut_slice());
+            ft
+        })
     }
     /// ln V and ln θ are controlled absolutely (an error ε is a relative error ε in V or θ)
     /// to `atol + rtol`; slip relatively to `atol + rtol |δ|`.
@@ -261,7 +206,7 @@ impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
     fn accepted(&self, t: f64, y: &SVector<f64, D>) -> Result<(), String> {
         if let Some(w) = self.watch {
             // one right-hand side per accepted step, only when watching
-            w.step(t, y[0], self.rhs(y)[0], y[D - 1]);
+            w.step(t, y[0], self.rhs(t, y)[0], y[D - 1]);
         }
         self.check(y)
     }
@@ -351,7 +296,7 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
     if !(problem.v_init > 0.0 && problem.v_init.is_finite()) {
         return Err(SolveError::Input(format!("v_init = {} must be positive and finite (µm/s)", problem.v_init)));
     }
-    let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
+    let pieces = problem.pieces()?;
     let t_out = output_times(problem, &pieces)?;
     if model.imposed_velocity() {
         if let Some((i, p)) = pieces.iter().enumerate().find(|(_, p)| !(p.v > 0.0)) {
@@ -394,7 +339,9 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         tolerances: Some(tol),
         peak_slip_rate: Vec::new(),
         events: Vec::new(),
+        normal_stress: Vec::new(),
     };
+    let sigma_varies = normal_stress_varies(&pieces);
     let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
     let watching = problem.watch.peak_slip_rate || problem.watch.event_slip_rate.is_some();
     let watch = watching.then(|| StepWatch::new(&problem.watch));
@@ -407,6 +354,9 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         sol.slip.push(y[D - 1]);
         for i in 0..n {
             sol.theta[i].push(y[1 + i].exp());
+        }
+        if sigma_varies {
+            sol.normal_stress.push(piece.normal_stress(t));
         }
     };
 
@@ -423,8 +373,8 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
     Ok(sol)
 }
 
-/// Integrates `y0` across the constant-velocity `pieces`, restarting the integrator exactly at
-/// every boundary and calling `record(piece, t, y)` at every time of `t_out` (sorted, within
+/// Integrates `y0` across the `pieces`, restarting the integrator exactly at every boundary
+/// (applying a normal-stress step there to the first N + 2 components), and calling `record(piece, t, y)` at every time of `t_out` (sorted, within
 /// the pieces' span; a time on a boundary is recorded once). `make` wraps the spring-slider of
 /// each piece into the system actually integrated (e.g. augmented with sensitivities, whose
 /// first N + 2 components must be the spring-slider's). Returns the end state; a failure is
@@ -445,9 +395,23 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
     let mut oi = 0; // next output index
     let mut h = 0.0;
     for (pi, piece) in pieces.iter().enumerate() {
-        let sys = SpringSlider::new(model, piece.v);
+        let sys = SpringSlider::for_piece(model, piece);
         if model.imposed_velocity() {
             y[0] = piece.v.ln();
+        }
+        if pi > 0 {
+            let sigma_minus = pieces[pi - 1].sigma_end();
+            if piece.sigma0 != sigma_minus {
+                // times on the step belong to the piece ending there (recorded before the step)
+                while oi < t_out.len() && t_out[oi] <= piece.t0 {
+                    record(&pieces[pi - 1], t_out[oi], &y);
+                    oi += 1;
+                }
+                let n2 = model.n_states() + 2;
+                sys.normal_stress_step(&mut y.as_mut_slice()[..n2], sigma_minus, piece.sigma0)
+                    .map_err(|e| SolveError::Input(format!("piece {} (t = {} s): {e}", pi + 1, piece.t0)))?;
+                h = 0.0; // the step is a discontinuity: let the method choose a new first step
+            }
         }
         // times on the start of the first piece; later boundaries belong to the piece ending there
         while oi < t_out.len() && t_out[oi] <= piece.t0 {
@@ -546,7 +510,7 @@ fn friction_dim<const D: usize, I: Integrator>(
 ) -> Result<(Vec<f64>, StepStats), SolveError> {
     let model = &problem.model;
     model.validate()?;
-    let pieces = problem.loading.pieces().map_err(SolveError::Loading)?;
+    let pieces = problem.pieces()?;
     let t_out = output_times(problem, &pieces)?;
     let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
     let classic = model.form == rsf_core::FrictionForm::Classic;
@@ -568,17 +532,4 @@ fn friction_dim<const D: usize, I: Integrator>(
         })
     })?;
     Ok((mu, stats))
-}
-
-impl Solution {
-    /// The event catalogue as CSV: `onset_s,end_s,peak_slip_rate_um_s,peak_time_s,slip_um`
-    /// (an event still running at the end has an empty `end_s`).
-    pub fn write_events_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
-        writeln!(w, "onset_s,end_s,peak_slip_rate_um_s,peak_time_s,slip_um")?;
-        for e in &self.events {
-            let end = e.end_s.map(|t| format!("{t:?}")).unwrap_or_default();
-            writeln!(w, "{:?},{end},{:?},{:?},{:?}", e.onset_s, e.peak_slip_rate, e.peak_time_s, e.slip_um)?;
-        }
-        Ok(())
-    }
 }

@@ -1,7 +1,7 @@
 //! The closed vocabulary of causes, and what each does to a model: the extension it applies,
 //! its words, and the effect parameters it reports.
 
-use crate::fit::{FitOptions, FitResult};
+use crate::fit::{AlphaFit, FitOptions, FitResult};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -22,12 +22,21 @@ pub enum Cause {
     SlipTrend,
     /// The machine stiffness differs from the nominal one.
     Stiffness,
+    /// Linker–Dieterich coupling of state to normal-stress changes (α > 0); a candidate only
+    /// when the record's normal stress varies.
+    NormalStressCoupling,
 }
 
 impl Cause {
     /// The candidate extensions, in the order they are tried.
-    pub const CANDIDATES: [Cause; 5] =
-        [Cause::EvolutionLaw, Cause::SecondStateVariable, Cause::CutoffVelocity, Cause::SlipTrend, Cause::Stiffness];
+    pub const CANDIDATES: [Cause; 6] = [
+        Cause::EvolutionLaw,
+        Cause::SecondStateVariable,
+        Cause::CutoffVelocity,
+        Cause::SlipTrend,
+        Cause::Stiffness,
+        Cause::NormalStressCoupling,
+    ];
 
     /// The snake_case name (as in JSON).
     pub fn as_str(self) -> &'static str {
@@ -38,6 +47,7 @@ impl Cause {
             Self::CutoffVelocity => "cutoff_velocity",
             Self::SlipTrend => "slip_trend",
             Self::Stiffness => "stiffness",
+            Self::NormalStressCoupling => "normal_stress_coupling",
         }
     }
 
@@ -55,6 +65,7 @@ impl Cause {
             Self::CutoffVelocity => "Kato–Tullis law with cut-off velocity Vc".into(),
             Self::SlipTrend => "slip trend g·slip".into(),
             Self::Stiffness => "stiffness fitted".into(),
+            Self::NormalStressCoupling => "Linker–Dieterich normal-stress coupling α".into(),
         }
     }
 
@@ -95,6 +106,12 @@ impl Cause {
                 }
                 o.fit_stiffness = true;
             }
+            Self::NormalStressCoupling => {
+                if o.alpha != AlphaFit::Fixed {
+                    return None;
+                }
+                o.alpha = AlphaFit::Shared;
+            }
         }
         Some(o)
     }
@@ -125,6 +142,9 @@ impl Cause {
             }
             Self::Stiffness => {
                 effect.insert("k".into(), serde_json::json!(pr.k));
+            }
+            Self::NormalStressCoupling => {
+                effect.insert("alpha".into(), serde_json::json!(pr.alpha.first()));
             }
         }
     }

@@ -57,6 +57,7 @@ pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
         Cause::CutoffVelocity => p.law_params.extend(p2.law_params.iter().map(|(k, v)| (k.clone(), *v))),
         Cause::SlipTrend => p.g = p2.g,
         Cause::Stiffness => p.k = p2.k,
+        Cause::NormalStressCoupling => p.alpha = p2.alpha.clone(),
         _ => {}
     }
     p

@@ -345,6 +345,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let mut jobs: Vec<Job> = Cause::CANDIDATES
         .into_iter()
         .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
+        // α acts only through changes of σ
+        .filter(|&c| c != Cause::NormalStressCoupling || ctx.p.normal_stress.is_some())
         .map(Job::Candidate)
         .collect();
     if opts.per_segment {

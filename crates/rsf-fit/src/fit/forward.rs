@@ -93,9 +93,12 @@ pub(super) fn model_slip_rate(
 }
 
 /// The forward problem of a fit for `model`: loading and output at the used samples.
-fn forward_problem(p: &Prepared, opts: &FitOptions, model: Model) -> Problem {
+fn forward_problem(p: &Prepared, opts: &FitOptions, mut model: Model) -> Problem {
     let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();
     let t0 = p.record.time[0];
+    if p.normal_stress.is_some() {
+        model.normal_stress = Some(p.sigma_ref);
+    }
     let (loading, out) = match opts.loading {
         LoadingMode::Record => (
             Loading::Record(LoadRecord { time: p.record.time.clone(), load_point: p.record.load_point.clone() }),
@@ -110,7 +113,12 @@ fn forward_problem(p: &Prepared, opts: &FitOptions, model: Model) -> Problem {
             (Loading::Segments(segs), times.iter().map(|t| (t - t0).clamp(0.0, end)).collect())
         }
     };
+    let shift = match opts.loading {
+        LoadingMode::Record => 0.0,
+        LoadingMode::Protocol => -t0,
+    };
     let mut problem = Problem::new(model, loading, p.v_init, 1.0);
     problem.output = OutputTimes::Times(out);
+    problem.normal_stress = p.normal_stress.as_ref().map(|h| h.shifted(shift));
     problem
 }

@@ -4,7 +4,7 @@ use super::covariance::{covariance, intervals};
 use super::forward::{evaluate, model_slip_rate};
 use super::params::{Constraint, within_bounds};
 use super::{
-    BudgetHit, Curve, FitError, FitOptions, FitResult, ParamName, Params, Prepared, SegmentRow, parameter_map,
+    AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamName, Params, Prepared, SegmentRow, parameter_map,
 };
 use crate::lm::{self, Eval};
 use rsf_core::{n_params, state_offset};
@@ -77,6 +77,8 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
                 laws: vec![],
                 law_params: BTreeMap::new(),
                 mu0_offsets: vec![],
+                alpha: vec![],
+                normal_stress: None,
             })
         } else {
             fit(p, &o1).map(|r| {
@@ -192,6 +194,12 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
             })
             .collect(),
         mu0_offsets: full[np..].to_vec(),
+        alpha: if p.normal_stress.is_some() || opts.alpha != AlphaFit::Fixed {
+            (0..map.n_states).map(|i| full[state_offset(i) + 3]).collect()
+        } else {
+            vec![]
+        },
+        normal_stress: p.normal_stress.as_ref().map(|_| p.sigma_ref),
     };
     let mut rows: Vec<SegmentRow> = p
         .segments

@@ -1,6 +1,6 @@
 //! Fitting a rate-and-state model to a measured record.
 //!
-//! Parameters live in the layout of [`rsf_core::n_params`] (`mu0, a, k, b_i, dc_i, q_i`) plus,
+//! Parameters live in the layout of [`rsf_core::n_params`] (`mu0, a, k, g, b_i, dc_i, q_i, alpha_i`) plus,
 //! optionally, one friction offset per segment after the first (`mu0` per segment). Positive
 //! quantities (a, k, Dc, Vc) are fitted as logarithms, so they cannot leave their domain; `b`,
 //! `mu0`, offsets and Nagata's `c` are fitted directly. Linear constraints `X=c`, `X-Y=c` and
@@ -27,7 +27,10 @@ mod result;
 
 pub use forward::model_curve;
 pub use lsq::fit;
-pub use options::{Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, Weighting};
+pub use options::{
+    AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
+    NormalStressMode, Weighting,
+};
 pub use params::{ParamMap, ParamName, parameter_map};
-pub use prepare::{Prepared, initial_guess, prepare};
+pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};
 pub use result::{Curve, Estimate, FitResult, Params, SegmentRow};

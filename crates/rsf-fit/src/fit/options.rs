@@ -29,6 +29,36 @@ pub enum Weighting {
     Uniform,
 }
 
+/// Whether a record's normal stress drives the forward model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NormalStressMode {
+    /// Drive σ(t) from the record's normal-stress column when it varies by more than
+    /// [`NORMAL_STRESS_VARIES`] of its median; constant otherwise.
+    Auto,
+    /// Constant normal stress, whatever the record holds.
+    Constant,
+    /// Always drive σ(t) from the record's normal-stress column.
+    Record,
+}
+
+/// A normal stress whose range is below this fraction of its median counts as constant in
+/// [`NormalStressMode::Auto`]: servo noise and drift of a nominally constant σ stay well
+/// below 2 %, while the normal-stress steps of lab protocols are 5–100 %.
+pub const NORMAL_STRESS_VARIES: f64 = 0.02;
+
+/// Which Linker–Dieterich coefficients a fit frees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AlphaFit {
+    /// α fixed (at 0 unless given by `initial` or `fix`).
+    Fixed,
+    /// One α shared by all state variables.
+    Shared,
+    /// One α per state variable.
+    PerState,
+}
+
 /// Fit settings.
 #[derive(Clone, Debug)]
 pub struct FitOptions {
@@ -64,6 +94,10 @@ pub struct FitOptions {
     pub initial: Vec<(String, f64)>,
     /// How much work the fit may do (counted, so the result never depends on the machine).
     pub budget: Budget,
+    /// Whether the record's normal stress drives the model.
+    pub normal_stress: NormalStressMode,
+    /// Which α are fitted.
+    pub alpha: AlphaFit,
 }
 
 /// The work a fit may do, counted in integrator steps of its forward solves, never in wall
@@ -143,6 +177,8 @@ impl FitOptions {
             starts: 5,
             initial: vec![],
             budget: Budget::default(),
+            normal_stress: NormalStressMode::Auto,
+            alpha: AlphaFit::Fixed,
         }
     }
 }

@@ -1,8 +1,9 @@
 //! The parameter map: names, the full-vector layout, which entries are free (and fitted as
 //! logarithms), constraints between them, and physical bounds.
 
+use super::AlphaFit;
 use super::{FitError, FitOptions, Prepared, initial_guess};
-use rsf_core::{Model, N_GLOBAL, StateVariable, n_params, param_index, state_offset};
+use rsf_core::{Model, N_GLOBAL, PER_STATE, StateVariable, n_params, param_index, state_offset};
 
 /// A parameter name, parsed: the one place where names such as `b2`, `dc1`, `vc1` or
 /// `mu0_seg3` are read.
@@ -20,6 +21,8 @@ pub enum ParamName {
     B(usize),
     /// Dc of state i (1-based).
     Dc(usize),
+    /// Linker–Dieterich α of state i (1-based).
+    Alpha(usize),
     /// A law's own parameter (e.g. `vc`) of state i (1-based).
     Law(String, usize),
     /// The friction offset of segment s (1-based, from 2).
@@ -46,6 +49,7 @@ impl ParamName {
         match stem {
             "b" => Some(Self::B(i)),
             "dc" => Some(Self::Dc(i)),
+            "alpha" => Some(Self::Alpha(i)),
             s if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphabetic()) => Some(Self::Law(s.to_string(), i)),
             _ => None,
         }
@@ -53,7 +57,7 @@ impl ParamName {
     /// The state variable (1-based) this parameter belongs to, if any.
     pub fn state(&self) -> Option<usize> {
         match self {
-            Self::B(i) | Self::Dc(i) | Self::Law(_, i) => Some(*i),
+            Self::B(i) | Self::Dc(i) | Self::Alpha(i) | Self::Law(_, i) => Some(*i),
             _ => None,
         }
     }
@@ -127,7 +131,7 @@ fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
     let mut v = vec!["mu0".to_string(), "a".into(), "k".into(), "g".into()];
     for (i, l) in opts.laws.iter().enumerate() {
         let q = l.parameters().first().map(|p| p.0).unwrap_or("q");
-        v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1)]);
+        v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1), format!("alpha{}", i + 1)]);
     }
     v.extend((0..n_off).map(|s| format!("mu0_seg{}", s + 2)));
     v
@@ -220,6 +224,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
             Some((_, v)) => *v,
             None => 0.0,
         };
+        base[off + 3] = 0.0;
     }
     let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
     let log_param = |i: usize| {
@@ -227,7 +232,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
             || i == 2
             || (i >= N_GLOBAL
                 && i < np
-                && ((i - N_GLOBAL) % 3 == 1 || ((i - N_GLOBAL) % 3 == 2 && names[i].starts_with("vc"))))
+                && ((i - N_GLOBAL) % PER_STATE == 1 || ((i - N_GLOBAL) % PER_STATE == 2 && names[i].starts_with("vc"))))
     };
     let mut free_idx = vec![0usize, 1];
     if opts.fit_stiffness {
@@ -241,6 +246,13 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         free_idx.extend([off, off + 1]);
         if !law.parameters().is_empty() {
             free_idx.push(off + 2);
+        }
+        if opts.alpha == AlphaFit::PerState || (opts.alpha == AlphaFit::Shared && i == 0) {
+            free_idx.push(off + 3);
+        }
+        if opts.alpha == AlphaFit::Shared && i > 0 {
+            // one α for all states: α_i follows α_1
+            slots[off + 3] = Slot::Derived { src: state_offset(0) + 3, sign: 1.0, c: 0.0 };
         }
     }
     free_idx.extend(np..np + n_off);
@@ -258,8 +270,8 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         .filter(|(i, _)| {
             !(*i >= N_GLOBAL
                 && *i < np
-                && (i - N_GLOBAL) % 3 == 2
-                && opts.laws[(i - N_GLOBAL) / 3].parameters().is_empty())
+                && (i - N_GLOBAL) % PER_STATE == 2
+                && opts.laws[(i - N_GLOBAL) / PER_STATE].parameters().is_empty())
         })
         .map(|(_, n)| n)
         .collect();
@@ -324,8 +336,11 @@ pub(super) fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> 
             1 => (1e-7, 1.0),
             2 => (1e-9, 1e4),
             3 => (-1e-2, 1e-2),
-            _ => match (i - N_GLOBAL) % 3 {
+            _ => match (i - N_GLOBAL) % PER_STATE {
                 2 if map.names[i].starts_with("vc") => (1e-9, 1e6),
+                // Linker–Dieterich α: published values 0–0.6; beyond 5 the coupling would
+                // dominate every other term
+                3 => (0.0, 5.0),
                 0 => (-1.0, 1.0),
                 // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
                 // record of 1–1000 Hz can resolve

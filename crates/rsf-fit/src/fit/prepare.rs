@@ -1,9 +1,10 @@
 //! The data side of a fit: which samples, with which weights, and starting values from the
 //! record itself.
 
-use super::{FitError, FitOptions, Weighting};
+use super::{FitError, FitOptions, NORMAL_STRESS_VARIES, NormalStressMode, Weighting};
 use crate::data::Record;
 use crate::segment::Segment;
+use rsf_core::NormalStressRecord;
 
 /// The data-dependent part of a fit, shared by LM, MCMC and per-segment fits.
 #[derive(Clone, Debug)]
@@ -20,6 +21,36 @@ pub struct Prepared {
     pub seg_of: Vec<usize>,
     /// Initial slip rate (steady state), µm/s.
     pub v_init: f64,
+    /// The normal stress that drives the model (record times, simplified), when it does.
+    pub normal_stress: Option<NormalStressRecord>,
+    /// σ_ref, MPa: the normal stress at the first used sample (k = K/σ_ref); 1 without one.
+    pub sigma_ref: f64,
+}
+
+/// Vertices of a measured σ(t) are kept to within this fraction of its median, or twice the
+/// sample-to-sample noise if that is larger: a σ error ε shifts friction by about μ ε until
+/// the spring relaxes it, so 1e-4 keeps that below 1e-4 in μ, under lab noise.
+pub const NORMAL_STRESS_TOLERANCE: f64 = 1e-4;
+
+/// The normal-stress history a fit drives the model with: `None` when the record has no σ
+/// column, when `mode` is constant, or (auto) when σ varies less than [`NORMAL_STRESS_VARIES`].
+pub fn driving_normal_stress(rec: &Record, mode: NormalStressMode) -> Option<NormalStressRecord> {
+    if rec.normal_stress.len() != rec.len() || rec.len() < 2 || mode == NormalStressMode::Constant {
+        return None;
+    }
+    let mut sorted = rec.normal_stress.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    let range = sorted[sorted.len() - 1] - sorted[0];
+    if mode == NormalStressMode::Auto && range <= NORMAL_STRESS_VARIES * median {
+        return None;
+    }
+    // sample-to-sample noise: MAD of first differences / (0.6745 √2)
+    let mut d: Vec<f64> = rec.normal_stress.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    d.sort_by(f64::total_cmp);
+    let noise = d[d.len() / 2] / (0.6745 * std::f64::consts::SQRT_2);
+    let h = NormalStressRecord { time: rec.time.clone(), sigma: rec.normal_stress.clone() };
+    Some(h.simplified((NORMAL_STRESS_TOLERANCE * median).max(2.0 * noise)))
 }
 
 /// Selects the samples and weights, and trims the record to its first moving segment.
@@ -34,6 +65,7 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
         time: record.time[i_start..].to_vec(),
         load_point: record.load_point[i_start..].to_vec(),
         mu: record.mu[i_start..].to_vec(),
+        normal_stress: record.normal_stress.get(i_start..).map(<[f64]>::to_vec).unwrap_or_default(),
         source: record.source.clone(),
         dropped_duplicate_times: record.dropped_duplicate_times,
     };
@@ -76,7 +108,9 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
     let ms = weights.iter().map(|w| w * w).sum::<f64>() / weights.len() as f64;
     weights.iter_mut().for_each(|w| *w /= ms.sqrt());
     let v_init = segs[0].v;
-    Ok(Prepared { record: rec, segments: segs, used, weights, seg_of, v_init })
+    let normal_stress = driving_normal_stress(&rec, opts.normal_stress);
+    let sigma_ref = normal_stress.as_ref().map(|h| h.sigma[0]).unwrap_or(1.0);
+    Ok(Prepared { record: rec, segments: segs, used, weights, seg_of, v_init, normal_stress, sigma_ref })
 }
 
 /// Data-derived starting values: `(mu0, a, b_total, dc)` from the velocity steps (a from the

@@ -60,6 +60,13 @@ pub struct Params {
     /// Per-segment friction offsets (segment 2 onward), when fitted.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub mu0_offsets: Vec<f64>,
+    /// Linker–Dieterich α_i per state, when the normal stress drives the model or α is fitted
+    /// (empty otherwise).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub alpha: Vec<f64>,
+    /// σ_ref, MPa, the normal stress k is stated at, when the normal stress drives the model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_stress: Option<f64>,
 }
 
 impl Params {
@@ -73,6 +80,7 @@ impl Params {
             v.push((format!("dc{}", i + 1), *dc));
         }
         v.extend(self.law_params.iter().map(|(n, x)| (n.clone(), *x)));
+        v.extend(self.alpha.iter().enumerate().map(|(i, x)| (format!("alpha{}", i + 1), *x)));
         v.extend(self.mu0_offsets.iter().enumerate().map(|(k, x)| (format!("mu0_seg{}", k + 2), *x)));
         v
     }

@@ -1,0 +1,277 @@
+//! The spring-slider ODE in log variables, with its exact Jacobian.
+
+mod sensitivity;
+#[cfg(test)]
+mod tests;
+
+pub use sensitivity::{N_GLOBAL, PER_STATE, n_params, param_index, state_offset};
+
+use crate::law::StateArgs;
+use crate::loading::Piece;
+use crate::model::Model;
+
+/// The spring-slider system during one piece of constant load-point velocity and constant
+/// normal-stress rate.
+///
+/// Variables `y = (x, z_1, …, z_N, δ)` with `x = ln V` (V in µm/s), `z_i = ln θ_i` (θ in s)
+/// and `δ` the slip (µm). Log variables keep V and θ positive and turn the seven or more
+/// orders of magnitude V spans during a hold into a range of about 16, which a plain
+/// absolute tolerance controls: an error ε in `x` is a relative error ε in V.
+///
+/// With normal stress σ(t) and `s = σ/σ_ref`, the friction μ = f(V, Ψ) + ηV + gδ is the shear
+/// stress τ over σ, and the spring acts on τ: dτ/dt = K (V_lp − V) with K = k σ_ref. So
+///
+/// ```text
+/// dz_i/dt = G_i(V, θ_i, …)/θ_i − (α_i/b_i) ṡ/s                      (Linker–Dieterich)
+/// dμ/dt   = (k (V_lp − V) − μ ṡ)/s =: R
+/// dx/dt   = (R − gV − ∂f/∂Ψ · Σ b_i dz_i/dt) / (∂f/∂x + ηV)          (time derivative of μ)
+/// dδ/dt   = V
+/// ```
+///
+/// At constant normal stress (s = 1, ṡ = 0) these are exactly the equations without it. With
+/// infinite stiffness the slip rate is imposed: `dx/dt = 0` and V = V_lp. A ramp of σ makes the
+/// system depend on time; [`time_derivative`](Self::time_derivative) gives ∂f/∂t for the
+/// implicit methods.
+#[derive(Clone, Copy, Debug)]
+pub struct SpringSlider<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// Load-point velocity during this piece, µm/s.
+    pub v_lp: f64,
+    /// σ/σ_ref at `t0`.
+    s0: f64,
+    /// d(σ/σ_ref)/dt, 1/s.
+    s_rate: f64,
+    /// Start of the piece, s (the origin of the σ ramp).
+    t0: f64,
+}
+
+impl<'a> SpringSlider<'a> {
+    /// The system for `model` loaded at `v_lp` (µm/s) at constant normal stress σ_ref.
+    pub fn new(model: &'a Model, v_lp: f64) -> Self {
+        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0 }
+    }
+
+    /// The system during `piece`: its load-point velocity and its normal stress (MPa, relative
+    /// to the model's σ_ref).
+    pub fn for_piece(model: &'a Model, piece: &Piece) -> Self {
+        let sr = model.sigma_ref();
+        Self { model, v_lp: piece.v, s0: piece.sigma0 / sr, s_rate: piece.sigma_rate / sr, t0: piece.t0 }
+    }
+
+    /// Whether the right-hand side depends on time (a normal-stress ramp).
+    pub fn time_dependent(&self) -> bool {
+        self.s_rate != 0.0
+    }
+
+    /// Dimension N + 2.
+    pub fn dim(&self) -> usize {
+        self.model.states.len() + 2
+    }
+
+    /// Initial variables at steady state at slip rate `v` (µm/s), zero slip.
+    pub fn steady_state(model: &Model, v: f64) -> Result<Vec<f64>, crate::ModelError> {
+        let th = model.steady_state_thetas(v)?;
+        let mut y = Vec::with_capacity(th.len() + 2);
+        y.push(v.ln());
+        y.extend(th.iter().map(|t| t.ln()));
+        y.push(0.0);
+        Ok(y)
+    }
+
+    /// Shear stress over normal stress, τ/σ = f + ηV + gδ: the friction a load cell measures.
+    pub fn stress(&self, y: &[f64]) -> f64 {
+        let n = self.model.states.len();
+        let m = self.model;
+        let psi = m.psi_from_ln_theta(&y[1..=n]);
+        m.form.friction(m.mu0, m.a, m.v0, y[0], psi) + m.eta * y[0].exp() + m.slip_trend * y[n + 1]
+    }
+
+    /// `(s, ṡ/s)` at time `t`: normal stress over σ_ref, and its logarithmic rate (1/s).
+    #[inline]
+    fn sigma(&self, t: f64) -> (f64, f64) {
+        if self.s_rate == 0.0 {
+            (self.s0, 0.0)
+        } else {
+            let s = self.s0 + self.s_rate * (t - self.t0);
+            (s, self.s_rate / s)
+        }
+    }
+
+    /// The arguments of state `i`'s law at slip rate `v`, θ and shear-stress rate over σ.
+    #[inline]
+    fn args(&self, i: usize, v: f64, theta: f64, stress_rate: f64, s: f64) -> StateArgs<f64> {
+        let st = &self.model.states[i];
+        let sr = self.model.sigma_ref();
+        StateArgs {
+            v,
+            theta,
+            dc: st.dc,
+            b: st.b,
+            stress_rate,
+            normal_stress: s * sr,
+            normal_stress_rate: self.s_rate * sr,
+        }
+    }
+
+    /// Right-hand side `dy/dt` at time `t` into `dy` (both of length N + 2).
+    #[inline]
+    pub fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let m = self.model;
+        let n = m.states.len();
+        let x = y[0];
+        let v = x.exp();
+        let (s, log_rate) = self.sigma(t);
+        let imposed = m.imposed_velocity();
+        let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
+        let mut psi_rate = 0.0;
+        for (i, st) in m.states.iter().enumerate() {
+            let theta = y[1 + i].exp();
+            let g = st.law.rate(&self.args(i, v, theta, tau_rate, s));
+            let mut zdot = g / theta;
+            if st.alpha != 0.0 && log_rate != 0.0 {
+                zdot -= st.alpha / st.b * log_rate;
+            }
+            dy[1 + i] = zdot;
+            psi_rate += st.b * zdot;
+        }
+        dy[0] = if imposed {
+            0.0
+        } else {
+            let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
+            let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
+            (r - m.slip_trend * v - fe.f_psi * psi_rate) / (fe.f_x + m.eta * v)
+        };
+        dy[n + 1] = v;
+    }
+
+    #[inline]
+    fn psi(&self, y: &[f64]) -> f64 {
+        match self.model.form {
+            // the classic form does not need Ψ for its derivatives
+            crate::FrictionForm::Classic => 0.0,
+            _ => self.model.psi_from_ln_theta(&y[1..=self.model.states.len()]),
+        }
+    }
+
+    /// Exact Jacobian `∂(dy/dt)/∂y` at time `t`, column-major into `jac` (length (N + 2)²), and
+    /// the right-hand side into `dy`.
+    pub fn jacobian(&self, t: f64, y: &[f64], dy: &mut [f64], jac: &mut [f64]) {
+        let m = self.model;
+        let n = m.states.len();
+        let d = n + 2;
+        jac.iter_mut().for_each(|j| *j = 0.0);
+        let at = |r: usize, c: usize| c * d + r;
+        let x = y[0];
+        let v = x.exp();
+        let (s, log_rate) = self.sigma(t);
+        let imposed = m.imposed_velocity();
+        let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
+        let dtau_dx = if imposed { 0.0 } else { -m.stiffness * v / s };
+        let mut psi_rate = 0.0;
+        let mut dpsi_rate_dx = 0.0;
+        for (i, st) in m.states.iter().enumerate() {
+            let theta = y[1 + i].exp();
+            let j = st.law.jet(&self.args(i, v, theta, tau_rate, s));
+            let g_theta = j.rate / theta;
+            let mut zdot = g_theta;
+            if st.alpha != 0.0 && log_rate != 0.0 {
+                zdot -= st.alpha / st.b * log_rate;
+            }
+            dy[1 + i] = zdot;
+            let dz_dx = (j.d_v * v + j.d_stress_rate * dtau_dx) / theta;
+            // ∂(G/θ)/∂z = ∂G/∂θ − G/θ; the coupling term does not depend on z
+            let dz_dz = j.d_theta - g_theta;
+            jac[at(1 + i, 0)] = dz_dx;
+            jac[at(1 + i, 1 + i)] = dz_dz;
+            psi_rate += st.b * zdot;
+            dpsi_rate_dx += st.b * dz_dx;
+        }
+        dy[n + 1] = v;
+        jac[at(n + 1, 0)] = v;
+        if imposed {
+            dy[0] = 0.0;
+            return;
+        }
+        let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
+        let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
+        let num = r - m.slip_trend * v - fe.f_psi * psi_rate;
+        let den = fe.f_x + m.eta * v;
+        let xdot = num / den;
+        dy[0] = xdot;
+        // column x (∂μ/∂x = f_x + ηV enters R through −(ṡ/s) μ)
+        let dr_dx = dtau_dx - log_rate * den;
+        let dnum_dx = dr_dx - m.slip_trend * v - fe.f_psi * dpsi_rate_dx - psi_rate * fe.d_fpsi_dl;
+        let dden_dx = fe.d_fx_dl + m.eta * v;
+        jac[at(0, 0)] = (dnum_dx - xdot * dden_dx) / den;
+        // columns z_j: ∂L/∂z_j = b_j / a, ∂μ/∂z_j = f_Ψ b_j
+        for (jdx, st) in m.states.iter().enumerate() {
+            let dl = st.b / m.a;
+            let dnum = -fe.f_psi * st.b * jac[at(1 + jdx, 1 + jdx)]
+                - psi_rate * fe.d_fpsi_dl * dl
+                - log_rate * fe.f_psi * st.b;
+            let dden = fe.d_fx_dl * dl;
+            jac[at(0, 1 + jdx)] = (dnum - xdot * dden) / den;
+        }
+        // column δ: μ carries gδ
+        jac[at(0, n + 1)] = -log_rate * m.slip_trend / den;
+    }
+
+    /// `∂f/∂t` at time `t` into `dfdt` (zero unless the normal stress ramps): the right-hand side
+    /// depends on time only through σ(t), so ∂f/∂t = ∂f/∂s · ṡ, by a central difference in s
+    /// (relative step 1e-7: the truncation error of a smooth function at that step is below
+    /// 1e-12 relative, far under any tolerance the implicit methods are run at).
+    pub fn time_derivative(&self, t: f64, y: &[f64], dfdt: &mut [f64]) {
+        if self.s_rate == 0.0 {
+            dfdt.iter_mut().for_each(|x| *x = 0.0);
+            return;
+        }
+        let (s, _) = self.sigma(t);
+        let h = 1e-7 * s;
+        let dt = h / self.s_rate;
+        let mut fp = vec![0.0; y.len()];
+        self.rhs(t + dt, y, &mut fp);
+        self.rhs(t - dt, y, dfdt);
+        for (o, p) in dfdt.iter_mut().zip(&fp) {
+            *o = (p - *o) / (2.0 * dt);
+        }
+    }
+
+    /// Applies an instantaneous normal-stress step σ⁻ → σ⁺ (MPa) to `y` at a fixed load point:
+    /// the spring does not move, so τ = σ μ is continuous (μ⁺ = μ⁻ σ⁻/σ⁺); each state jumps to
+    /// θ_i (σ⁻/σ⁺)^(α_i/b_i) (Linker & Dieterich 1992); the slip rate follows from the friction
+    /// law at μ⁺ (with infinite stiffness V stays V_lp and μ jumps with θ instead).
+    pub fn normal_stress_step(&self, y: &mut [f64], sigma_minus: f64, sigma_plus: f64) -> Result<(), String> {
+        let m = self.model;
+        let n = m.states.len();
+        let ln_ratio = (sigma_minus / sigma_plus).ln();
+        let mu_plus = self.stress(y) * (sigma_minus / sigma_plus);
+        for (i, st) in m.states.iter().enumerate() {
+            if st.alpha != 0.0 {
+                y[1 + i] += st.alpha / st.b * ln_ratio;
+            }
+        }
+        if m.imposed_velocity() {
+            return Ok(());
+        }
+        let psi = m.psi_from_ln_theta(&y[1..=n]);
+        let target = mu_plus - m.slip_trend * y[n + 1];
+        let fail = |why: String| {
+            format!(
+                "no slip rate carries friction {mu_plus} after the normal-stress step {sigma_minus} → {sigma_plus} MPa: {why}"
+            )
+        };
+        y[0] = if m.eta == 0.0 {
+            // the friction law inverted in closed form
+            match m.form.slip_rate(m.mu0, m.a, m.v0, target, psi) {
+                Some(v) if v > 0.0 && v.is_finite() => v.ln(),
+                _ => return Err(fail("the friction law has no positive root".into())),
+            }
+        } else {
+            crate::element::solve_slip_rate(m.form, m.mu0, m.a, m.v0, psi, target, 1.0, m.eta, y[0])
+                .map_err(|e| fail(e.to_string()))?
+                .ln_v
+        };
+        Ok(())
+    }
+}

@@ -1,0 +1,151 @@
+//! Normal-stress changes with Linker–Dieterich coupling, checked against an independent solver
+//! (`benches/normal_stress/reference.py`: scipy Radau on (τ, ln θ, δ) with V from the inverted
+//! friction law, rtol 1e-12), against closed forms, and for exact reduction to constant σ.
+
+use rsf_core::{Loading, Model, Segment, StateVariable};
+use rsf_laws::{Aging, Slip};
+use rsf_solvers::{Method, OutputTimes, Problem, Solution, protocol};
+use std::path::PathBuf;
+
+fn cases_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../benches/normal_stress/cases")
+}
+
+/// Columns of the reference CSV by name.
+fn read_csv(path: &std::path::Path) -> std::collections::HashMap<String, Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let names: Vec<String> = lines.next().unwrap().split(',').map(str::to_string).collect();
+    let mut cols: Vec<Vec<f64>> = vec![vec![]; names.len()];
+    for l in lines {
+        for (c, x) in l.split(',').enumerate() {
+            cols[c].push(x.parse().unwrap());
+        }
+    }
+    names.into_iter().zip(cols).collect()
+}
+
+/// Every method on every reference case (steps up and down, ramps while sliding and during a
+/// hold, two states with different α, the Aging law, infinite stiffness): μ within 1e-8 of
+/// the independent solution at every output row, σ and the times exactly as written.
+#[test]
+fn protocols_agree_with_the_independent_solver() {
+    for case in ["steps_ramp", "two_state", "aging_hold", "imposed"] {
+        let p = protocol::load(&cases_dir().join(format!("{case}.toml"))).unwrap();
+        let r = read_csv(&cases_dir().join(format!("{case}.csv")));
+        for name in Method::NAMES {
+            if p.problem.model.imposed_velocity() && name.starts_with("rodas") {
+                continue; // nothing stiff to integrate with V imposed; the explicit methods suffice
+            }
+            let m = Method::from_name(name, 1e-10, 1e-12).unwrap();
+            let s: Solution = m.solve(&p.problem).unwrap_or_else(|e| panic!("{case} {name}: {e}"));
+            assert_eq!(s.time, r["time_s"], "{case}: output times");
+            assert_eq!(s.normal_stress.len(), s.len(), "{case}: σ column");
+            let mut worst: f64 = 0.0;
+            for i in 0..s.len() {
+                assert!((s.normal_stress[i] - r["normal_stress_mpa"][i]).abs() < 1e-12, "{case} σ row {i}");
+                worst = worst.max((s.mu[i] - r["mu"][i]).abs());
+                let dv = (s.slip_rate[i] / r["slip_rate_um_s"][i]).ln().abs();
+                assert!(dv < 1e-6, "{case} {name}: row {i} ln V off by {dv:e}");
+            }
+            println!("{case} {name}: max |Δμ| {worst:.2e}");
+            assert!(worst < 1e-8, "{case} {name}: μ off by {worst:e}");
+        }
+    }
+}
+
+fn slip_model(alpha: f64, k: f64) -> Model {
+    Model::new(0.6, 1.0, 0.01, k)
+        .with_state(StateVariable::new(Slip, 0.012, 10.0).with_alpha(alpha))
+        .with_normal_stress(10.0)
+}
+
+fn run(model: Model, segs: Vec<Segment>, out: Vec<f64>) -> Solution {
+    let mut p = Problem::new(model, Loading::Segments(segs), 1.0, 1.0);
+    p.output = OutputTimes::Times(out);
+    Method::from_name("auto", 1e-11, 1e-13).unwrap().solve(&p).unwrap()
+}
+
+/// At constant σ the equations are the ones without normal stress, bit for bit: giving σ_ref,
+/// or α, changes nothing.
+#[test]
+fn constant_normal_stress_reduces_exactly() {
+    let segs =
+        vec![Segment::for_duration(1.0, 20.0), Segment::for_duration(10.0, 10.0), Segment::for_duration(0.0, 100.0)];
+    let plain = Model::new(0.6, 1.0, 0.01, 0.01)
+        .with_state(StateVariable::new(Slip, 0.008, 10.0))
+        .with_state(StateVariable::new(Aging, 0.004, 50.0));
+    let mut with = plain.clone().with_normal_stress(25.0);
+    with.states[0].alpha = 0.3;
+    with.states[1].alpha = 0.6;
+    let out: Vec<f64> = (0..131).map(|i| i as f64).collect();
+    for name in Method::NAMES {
+        let m = Method::from_name(name, 1e-9, 1e-12).unwrap();
+        let mut p = Problem::new(plain.clone(), Loading::Segments(segs.clone()), 1.0, 1.0);
+        p.output = OutputTimes::Times(out.clone());
+        let a = m.solve(&p).unwrap();
+        p.model = with.clone();
+        let b = m.solve(&p).unwrap();
+        assert_eq!(a.mu, b.mu, "{name}");
+        assert_eq!(a.slip_rate, b.slip_rate, "{name}");
+        assert_eq!(a.theta, b.theta, "{name}");
+        assert!(b.normal_stress.is_empty(), "no σ column at constant σ");
+    }
+}
+
+/// Closed forms through the solver. With V imposed, μ just after a step σ⁻ → σ⁺ is
+/// μ⁻ − α ln(σ⁺/σ⁻) (θ scaled by (σ⁻/σ⁺)^(α/b)); at finite stiffness τ is continuous,
+/// μ⁺ = μ⁻ σ⁻/σ⁺. Long after, μ returns to μ_ss(V) = μ0 + (a − b) ln(V/V0), whatever σ.
+#[test]
+fn steps_follow_the_closed_forms() {
+    for (k, alpha) in [(f64::INFINITY, 0.3), (0.01, 0.3), (0.01, 0.0)] {
+        let segs = vec![Segment::for_duration(1.0, 10.0), Segment::for_duration(1.0, 400.0).with_normal_stress(12.0)];
+        // the row at 10 s belongs to the first piece (before the step); 10 + 1e-9 s just after it
+        let s = run(slip_model(alpha, k), segs, vec![0.0, 10.0, 10.0 + 1e-9, 410.0]);
+        let (before, after, end) = (s.mu[1], s.mu[2], s.mu[3]);
+        let ln_r = (12.0f64 / 10.0).ln();
+        if k.is_infinite() {
+            assert!((after - (before - alpha * ln_r)).abs() < 1e-10, "k = inf: {after} vs {}", before - alpha * ln_r);
+            let th = s.theta[0][1] * (10.0f64 / 12.0).powf(alpha / 0.012);
+            assert!((s.theta[0][2] / th - 1.0).abs() < 1e-8, "θ jump");
+        } else {
+            assert!(
+                (after - before * 10.0 / 12.0).abs() < 1e-9,
+                "k finite: τ continuous ({after} vs {})",
+                before / 1.2
+            );
+            // V⁺ from the friction law: a ln(V⁺/V⁻) = μ⁺ − μ⁻ + α ln(σ⁺/σ⁻)
+            let lv = s.slip_rate[1].ln() + (after - before + alpha * ln_r) / 0.01;
+            assert!((s.slip_rate[2].ln() - lv).abs() < 1e-6, "V⁺ {} vs {}", s.slip_rate[2], lv.exp());
+        }
+        assert!((end - 0.6).abs() < 1e-6, "return to steady state at V = V0: μ = {end}");
+        assert_eq!(s.normal_stress, vec![10.0, 10.0, 12.0, 12.0]);
+    }
+}
+
+/// A ramp over T converges to the instantaneous step as T → 0, at first order in T.
+#[test]
+fn fast_ramps_converge_to_the_step() {
+    let model = slip_model(0.3, 0.01);
+    let t_end = 60.0;
+    let step = run(
+        model.clone(),
+        vec![Segment::for_duration(1.0, 10.0), Segment::for_duration(1.0, 50.0).with_normal_stress(13.0)],
+        vec![t_end],
+    );
+    let mut errs = vec![];
+    for ramp in [1e-1, 1e-2, 1e-3] {
+        let segs = vec![
+            Segment::for_duration(1.0, 10.0),
+            Segment::for_duration(1.0, ramp).with_normal_stress_rate(3.0 / ramp),
+            Segment::for_duration(1.0, 50.0 - ramp),
+        ];
+        let s = run(model.clone(), segs, vec![t_end]);
+        errs.push((s.mu[0] - step.mu[0]).abs() + (s.theta[0][0] / step.theta[0][0]).ln().abs());
+    }
+    println!("ramp vs step: {errs:?}");
+    for w in errs.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(ratio > 5.0 && ratio < 20.0, "first-order convergence expected, ratio {ratio}");
+    }
+}
