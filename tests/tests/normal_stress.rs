@@ -149,3 +149,60 @@ fn fast_ramps_converge_to_the_step() {
         assert!(ratio > 5.0 && ratio < 20.0, "first-order convergence expected, ratio {ratio}");
     }
 }
+
+/// Fitting α on the committed synthetic records (`tests/data/normal_stress`, made by the
+/// independent generator): α within 10 % (α = 0: below 0.02), a, b and Dc within 10 %; the
+/// diagnosis names `normal_stress_coupling` for α = 0.3 and nothing for α = 0.
+#[test]
+fn alpha_is_recovered_and_diagnosed_from_independent_records() {
+    use rsf_fit::data::{ReadOptions, read_record};
+    use rsf_fit::diagnose::{Cause, DiagnoseOptions, diagnose};
+    use rsf_fit::fit::{AlphaFit, FitOptions, LoadingMode, fit, prepare};
+    use rsf_fit::segment::{SegmentOptions, detect};
+    let dir = rsf_tests::data_dir().join("normal_stress");
+    let truth: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("truth.json")).unwrap()).unwrap();
+    for m in truth.as_array().unwrap() {
+        let file = m["file"].as_str().unwrap();
+        let p = &m["params"];
+        let t = |k: &str| p[k].as_f64().unwrap();
+        let read =
+            ReadOptions { lp_col: "lp_um".into(), normal_col: Some("normal_stress_mpa".into()), ..Default::default() };
+        let rec = read_record(&dir.join(file), &read).unwrap();
+        assert_eq!(rec.normal_stress.len(), rec.len());
+        let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+        let slip = || rsf_laws::law_by_name("slip", |_| None).unwrap();
+        let mut o = FitOptions::new(vec![slip()], t("k"));
+        o.alpha = AlphaFit::Shared;
+        let r = fit(&prepare(&rec, &segs, &o).unwrap(), &o).unwrap();
+        let alpha = r.params.alpha[0];
+        println!(
+            "{file}: α {alpha:.4} (true {}), a {:.5}, b {:.5}, dc {:.3}",
+            t("alpha"),
+            r.params.a,
+            r.params.b[0],
+            r.params.dc[0]
+        );
+        if t("alpha") > 0.0 {
+            assert!((alpha / t("alpha") - 1.0).abs() < 0.1, "{file}: α {alpha}");
+        } else {
+            assert!(alpha < 0.02, "{file}: α {alpha}");
+        }
+        for (got, want, name) in
+            [(r.params.a, t("a"), "a"), (r.params.b[0], t("b"), "b"), (r.params.dc[0], t("dc"), "dc")]
+        {
+            assert!((got / want - 1.0).abs() < 0.1, "{file}: {name} {got} vs {want}");
+        }
+        assert_eq!(r.params.normal_stress, Some(10.0));
+        if file.contains("s-20") {
+            continue; // one α > 0 record is enough for the diagnosis (it takes seconds)
+        }
+        let mut base = FitOptions::new(vec![slip()], t("k"));
+        base.loading = LoadingMode::Protocol;
+        let d = diagnose(&rec, &segs, &DiagnoseOptions { threads: 1, ..DiagnoseOptions::new(base) }).unwrap();
+        let want = if t("alpha") > 0.0 { Cause::NormalStressCoupling } else { Cause::None };
+        assert_eq!(d.cause, want, "{file}: diagnosis");
+        // the candidate is tried whenever σ varies
+        assert!(d.candidates.iter().any(|c| c.cause == Cause::NormalStressCoupling), "{file}: no α candidate");
+    }
+}

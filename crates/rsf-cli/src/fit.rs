@@ -179,6 +179,12 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
     if p.g != 0.0 || r.stderr.contains_key("g") {
         row("g", p.g);
     }
+    for (i, al) in p.alpha.iter().enumerate() {
+        row(&format!("alpha{}", i + 1), *al);
+    }
+    if let Some(sn) = p.normal_stress {
+        let _ = writeln!(s, "normal stress drives the model (σ_ref = {sn} MPa: k = K/σ_ref)");
+    }
     let _ = writeln!(
         s,
         "rms {:.3e}  n {}  free {}  logL {:.1}  AIC {:.1}  BIC {:.1}  ({} LM iterations: {})",

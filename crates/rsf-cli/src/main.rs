@@ -354,7 +354,12 @@ fn run(cli: Cli) -> Result<()> {
             let rec = read.read(&data)?;
             let opts = rsf_fit::segment::SegmentOptions { min_ratio, min_duration, ..Default::default() };
             let segs = rsf_fit::segment::detect(&rec.time, &rec.load_point, &opts);
+            let sn_events = rsf_fit::segment::normal_stress_events(&rec.time, &rec.normal_stress);
             let text = if json {
+                // the segments array as before (it feeds `--segments`); σ changes on stderr
+                if !sn_events.is_empty() {
+                    eprintln!("normal-stress changes: {}", serde_json::to_string(&sn_events)?);
+                }
                 serde_json::to_string_pretty(&segs)? + "\n"
             } else {
                 let mut t = format!(
@@ -373,6 +378,15 @@ fn run(cli: Cli) -> Result<()> {
                         s.v,
                         s.i1 + 1 - s.i0
                     );
+                }
+                if !sn_events.is_empty() {
+                    t += &format!(
+                        "\nnormal-stress changes:\n{:>3} {:>12} {:>12} {:>10} {:>10}\n",
+                        "#", "t_start_s", "t_end_s", "from_mpa", "to_mpa"
+                    );
+                    for (k, e) in sn_events.iter().enumerate() {
+                        t += &format!("{:>3} {:>12.3} {:>12.3} {:>10.4} {:>10.4}\n", k + 1, e.t0, e.t1, e.from, e.to);
+                    }
                 }
                 t
             };

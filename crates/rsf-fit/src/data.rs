@@ -423,6 +423,30 @@ fn parse_lines(
             }
         };
         let t = parse(&cells, ti + off, &opts.time_col, ln)? * tf;
+        if let Some(&prev) = rec.time.last() {
+            if t == prev && opts.duplicate_times == DuplicateTimes::Drop {
+                rec.dropped_duplicate_times += 1;
+                continue;
+            }
+            if !(t > prev) {
+                return Err(err(
+                    Some(ln + 1),
+                    Some(&opts.time_col),
+                    if t == prev {
+                        format!(
+                            "time {} repeats the previous row's (use the option to drop duplicated times, \
+                             `--duplicate-times drop`, if the logger writes two rows per tick)",
+                            t / tf
+                        )
+                    } else {
+                        format!("time {} does not increase (previous {})", t / tf, prev / tf)
+                    },
+                ));
+            }
+        }
+        if opts.t_min.is_some_and(|a| t < a) || opts.t_max.is_some_and(|b| t > b) {
+            continue;
+        }
         let x = parse(&cells, li + off, &opts.lp_col, ln)? * df;
         let positive = |sn: f64| {
             if sn > 0.0 {
@@ -452,30 +476,6 @@ fn parse_lines(
                 tau / sn
             }
         };
-        if let Some(&prev) = rec.time.last() {
-            if t == prev && opts.duplicate_times == DuplicateTimes::Drop {
-                rec.dropped_duplicate_times += 1;
-                continue;
-            }
-            if !(t > prev) {
-                return Err(err(
-                    Some(ln + 1),
-                    Some(&opts.time_col),
-                    if t == prev {
-                        format!(
-                            "time {} repeats the previous row's (use the option to drop duplicated times, \
-                             `--duplicate-times drop`, if the logger writes two rows per tick)",
-                            t / tf
-                        )
-                    } else {
-                        format!("time {} does not increase (previous {})", t / tf, prev / tf)
-                    },
-                ));
-            }
-        }
-        if opts.t_min.is_some_and(|a| t < a) || opts.t_max.is_some_and(|b| t > b) {
-            continue;
-        }
         rec.time.push(t);
         rec.load_point.push(x);
         rec.mu.push(mu);

@@ -9,7 +9,7 @@
 //! (10 rtol, relative with a floor of 1), on S; dense output gives both at the sample times.
 
 use nalgebra::{SMatrix, SVector};
-use rsf_core::{SpringSlider, n_params};
+use rsf_core::{N_GLOBAL, PER_STATE, SpringSlider, n_params};
 use rsf_solvers::{Dopri5, OdeSystem, Problem, SolveError, StepStats, Tolerances, drive};
 
 /// Friction and its parameter derivatives at the output times.
@@ -30,22 +30,28 @@ pub struct SensSolution {
 /// Largest number of state variables for which sensitivities are compiled.
 pub const MAX_SENS_STATES: usize = 8;
 
-struct SensOde<'a, const D: usize, const P: usize, const DA: usize> {
+/// The augmented system over the `P` active parameters `cols` (columns of the full layout of
+/// `PF` = [`n_params`] entries). At constant normal stress the α columns are left out: their
+/// sensitivities are identically zero, and carrying them would only cost work and dilute the
+/// error norm.
+struct SensOde<'a, const D: usize, const P: usize, const PF: usize, const DA: usize> {
     sys: SpringSlider<'a>,
     ln_v_max: f64,
+    cols: [usize; P],
 }
 
-impl<const D: usize, const P: usize, const DA: usize> OdeSystem<DA> for SensOde<'_, D, P, DA> {
+impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem<DA> for SensOde<'_, D, P, PF, DA> {
     fn rhs(&self, t: f64, ya: &SVector<f64, DA>) -> SVector<f64, DA> {
         let mut out = SVector::<f64, DA>::zeros();
         let mut dy = [0.0; D];
         let mut j = SMatrix::<f64, D, D>::zeros();
         self.sys.jacobian(t, &ya.as_slice()[..D], &mut dy, j.as_mut_slice());
-        let mut fp = SMatrix::<f64, D, P>::zeros();
-        if self.sys.parameter_jacobian(t, &ya.as_slice()[..D], fp.as_mut_slice()).is_err() {
+        let mut fp_full = SMatrix::<f64, D, PF>::zeros();
+        if self.sys.parameter_jacobian(t, &ya.as_slice()[..D], fp_full.as_mut_slice()).is_err() {
             out.fill(f64::NAN); // checked before integration; NaN rejects the step if it ever happens
             return out;
         }
+        let fp = SMatrix::<f64, D, P>::from_fn(|r, c| fp_full[(r, self.cols[c])]);
         out.as_mut_slice()[..D].copy_from_slice(&dy);
         let s = SMatrix::<f64, D, P>::from_column_slice(&ya.as_slice()[D..]);
         let ds = j * s + fp;
@@ -86,22 +92,32 @@ pub fn solve_with_sensitivities(
     atol: f64,
     max_steps: u64,
 ) -> Result<SensSolution, SolveError> {
+    let alpha = rsf_core::normal_stress_varies(&problem.pieces()?);
     match problem.model.n_states() {
-        1 => run::<3, 8, 27>(problem, rtol, atol, max_steps),
-        2 => run::<4, 12, 52>(problem, rtol, atol, max_steps),
-        3 => run::<5, 16, 85>(problem, rtol, atol, max_steps),
-        4 => run::<6, 20, 126>(problem, rtol, atol, max_steps),
-        5 => run::<7, 24, 175>(problem, rtol, atol, max_steps),
-        6 => run::<8, 28, 232>(problem, rtol, atol, max_steps),
-        7 => run::<9, 32, 297>(problem, rtol, atol, max_steps),
-        8 => run::<10, 36, 370>(problem, rtol, atol, max_steps),
+        // <D, active P, full P, D (1 + P)>: α columns active only when σ varies
+        1 if alpha => run::<3, 8, 8, 27>(problem, rtol, atol, max_steps),
+        1 => run::<3, 7, 8, 24>(problem, rtol, atol, max_steps),
+        2 if alpha => run::<4, 12, 12, 52>(problem, rtol, atol, max_steps),
+        2 => run::<4, 10, 12, 44>(problem, rtol, atol, max_steps),
+        3 if alpha => run::<5, 16, 16, 85>(problem, rtol, atol, max_steps),
+        3 => run::<5, 13, 16, 70>(problem, rtol, atol, max_steps),
+        4 if alpha => run::<6, 20, 20, 126>(problem, rtol, atol, max_steps),
+        4 => run::<6, 16, 20, 102>(problem, rtol, atol, max_steps),
+        5 if alpha => run::<7, 24, 24, 175>(problem, rtol, atol, max_steps),
+        5 => run::<7, 19, 24, 140>(problem, rtol, atol, max_steps),
+        6 if alpha => run::<8, 28, 28, 232>(problem, rtol, atol, max_steps),
+        6 => run::<8, 22, 28, 184>(problem, rtol, atol, max_steps),
+        7 if alpha => run::<9, 32, 32, 297>(problem, rtol, atol, max_steps),
+        7 => run::<9, 25, 32, 234>(problem, rtol, atol, max_steps),
+        8 if alpha => run::<10, 36, 36, 370>(problem, rtol, atol, max_steps),
+        8 => run::<10, 28, 36, 290>(problem, rtol, atol, max_steps),
         n => Err(SolveError::Input(format!(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
         ))),
     }
 }
 
-fn run<const D: usize, const P: usize, const DA: usize>(
+fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     problem: &Problem,
     rtol: f64,
     atol: f64,
@@ -109,7 +125,18 @@ fn run<const D: usize, const P: usize, const DA: usize>(
 ) -> Result<SensSolution, SolveError> {
     debug_assert_eq!(DA, D * (1 + P));
     let model = &problem.model;
-    debug_assert_eq!(P, n_params(model.n_states()));
+    debug_assert_eq!(PF, n_params(model.n_states()));
+    // the active columns: all, or all but the α of each state
+    let mut cols = [0usize; P];
+    let mut k = 0;
+    for j in 0..PF {
+        let is_alpha = j >= N_GLOBAL && (j - N_GLOBAL) % PER_STATE == 3;
+        if P == PF || !is_alpha {
+            cols[k] = j;
+            k += 1;
+        }
+    }
+    debug_assert_eq!(k, P);
     model.validate()?;
     let pieces = problem.pieces()?;
     if let Some(w) = pieces.windows(2).find(|w| w[1].sigma0 != w[0].sigma_end()) {
@@ -124,21 +151,29 @@ fn run<const D: usize, const P: usize, const DA: usize>(
     let y0 = SpringSlider::steady_state(model, problem.v_init)?;
     // sensitivity support (classic form, finite k, law parameters settable) at the start
     let probe = SpringSlider::for_piece(model, &pieces[0]);
-    let mut fp = vec![0.0; D * P];
+    let mut fp = vec![0.0; D * PF];
     probe.parameter_jacobian(pieces[0].t0, &y0, &mut fp).map_err(SolveError::Input)?;
     let mut ya = SVector::<f64, DA>::zeros();
     ya.as_mut_slice()[..D].copy_from_slice(&y0);
-    SpringSlider::steady_state_sensitivity(model, problem.v_init, &mut ya.as_mut_slice()[D..])
-        .map_err(SolveError::Input)?;
+    let mut s0 = vec![0.0; D * PF];
+    SpringSlider::steady_state_sensitivity(model, problem.v_init, &mut s0).map_err(SolveError::Input)?;
+    for (c, &j) in cols.iter().enumerate() {
+        ya.as_mut_slice()[D + c * D..D + (c + 1) * D].copy_from_slice(&s0[j * D..(j + 1) * D]);
+    }
     let rows = t_out.len();
     let mut sol = SensSolution {
         time: Vec::with_capacity(rows),
         mu: Vec::with_capacity(rows),
-        dmu: Vec::with_capacity(rows * P),
-        n_params: P,
+        dmu: Vec::with_capacity(rows * PF),
+        n_params: PF,
         stats: StepStats::default(),
     };
-    let (mut gy, mut gp) = ([0.0; D], [0.0; P]);
+    // the S column of each full-layout parameter (None: identically zero)
+    let mut col_of = [None; PF];
+    for (c, &j) in cols.iter().enumerate() {
+        col_of[j] = Some(c);
+    }
+    let (mut gy, mut gp) = ([0.0; D], [0.0; PF]);
     let alg = Dopri5 { max_steps, ..Dopri5::new(rtol, atol) };
     let ln_v_max = problem.max_slip_rate.ln();
     let mut stats = StepStats::default();
@@ -148,7 +183,7 @@ fn run<const D: usize, const P: usize, const DA: usize>(
         &t_out,
         ya,
         &alg,
-        |sys| SensOde::<D, P, DA> { sys, ln_v_max },
+        |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols },
         problem.max_slip_rate,
         &mut stats,
         |piece, t, ya| {
@@ -157,9 +192,12 @@ fn run<const D: usize, const P: usize, const DA: usize>(
             sol.time.push(t);
             sol.mu.push(sys.stress(y));
             let _ = sys.stress_gradients(y, &mut gy, &mut gp);
-            for j in 0..P {
-                let col = &ya.as_slice()[D + j * D..D + (j + 1) * D];
-                sol.dmu.push(gp[j] + gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>());
+            for j in 0..PF {
+                let through_y = col_of[j].map_or(0.0, |c| {
+                    let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
+                    gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
+                });
+                sol.dmu.push(gp[j] + through_y);
             }
         },
     )?;
@@ -228,6 +266,55 @@ mod tests {
                 assert!(worst < 2e-4, "N = {}, parameter {j}: max rel error {worst:e}", base.n_states());
             }
         }
+    }
+
+    /// The same with a measured normal stress (ramps up and down, one during the hold) and
+    /// Linker–Dieterich α on both states: ∂mu/∂α_i and the others against central differences.
+    #[test]
+    fn sensitivities_follow_normal_stress_changes() {
+        let mut base = Model::new(0.6, 1.0, 0.011, 0.02)
+            .with_state(StateVariable::new(Slip, 0.009, 3.0).with_alpha(0.25))
+            .with_state(StateVariable::new(Aging, 0.005, 30.0).with_alpha(0.1))
+            .with_normal_stress(10.0);
+        base.slip_trend = 1e-5;
+        let segs = vec![
+            Segment::for_duration(1.0, 200.0),
+            Segment::for_duration(10.0, 3.0),
+            Segment::for_duration(0.1, 60.0),
+            Segment::for_duration(0.0, 100.0),
+            Segment::for_duration(1.0, 40.0),
+        ];
+        let sn = rsf_core::NormalStressRecord {
+            time: vec![0.0, 100.0, 102.0, 250.0, 300.0, 320.0, 403.0],
+            sigma: vec![10.0, 10.0, 12.0, 12.0, 9.5, 9.5, 9.5],
+        };
+        let mk = |m: Model| {
+            let mut p = Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
+            p.normal_stress = Some(sn.clone());
+            p
+        };
+        let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
+        let p = params(&base);
+        let np = s.n_params;
+        for j in 0..np {
+            if p[j] == 0.0 {
+                continue;
+            }
+            let h = 1e-5 * p[j].abs();
+            let (mut pp, mut pm) = (p.clone(), p.clone());
+            pp[j] += h;
+            pm[j] -= h;
+            let fp = rsf_solvers::solve(&mk(rebuild(&base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
+            let fm = rsf_solvers::solve(&mk(rebuild(&base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
+            let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
+            let worst = (0..s.mu.len())
+                .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
+                .fold(0.0, f64::max);
+            assert!(worst < 2e-4, "parameter {j}: max rel error {worst:e}");
+        }
+        // α matters: its column is far from zero
+        let ja = rsf_core::state_offset(0) + 3;
+        assert!((0..s.mu.len()).any(|r| s.dmu[r * np + ja].abs() > 1e-3));
     }
 
     /// The case that exposed uncontrolled sensitivities (basalt velstep7 with k free): steady

@@ -38,6 +38,9 @@ fn solution_dict<'py>(py: Python<'py>, sol: rsf_solvers::Solution) -> PyResult<B
     if !sol.peak_slip_rate.is_empty() {
         d.set_item("peak_slip_rate_um_s", PyArray1::from_vec(py, sol.peak_slip_rate))?;
     }
+    if !sol.normal_stress.is_empty() {
+        d.set_item("normal_stress_mpa", PyArray1::from_vec(py, sol.normal_stress))?;
+    }
     d.set_item("method", sol.method)?;
     d.set_item("steps", sol.stats.accepted)?;
     Ok(d)
@@ -72,20 +75,23 @@ fn simulate_toml<'py>(
     solution_dict(py, sol)
 }
 
-/// Reads a lab record with the CLI's column options; returns `time_s`, `load_point_um`, `mu`.
+/// Reads a lab record with the CLI's column options; returns `time_s`, `load_point_um`, `mu`
+/// (and `normal_stress_mpa` with `normal_col`).
 #[pyfunction]
-#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu"))]
+#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu", normal_col=None))]
 fn read_record_columns<'py>(
     py: Python<'py>,
     path: &str,
     time_col: &str,
     lp_col: &str,
     mu_col: &str,
+    normal_col: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = ReadOptions {
         time_col: time_col.into(),
         lp_col: lp_col.into(),
         mu_col: mu_col.into(),
+        normal_col: normal_col.map(str::to_string),
         ..ReadOptions::default()
     };
     let rec = read_record(Path::new(path), &opts).map_err(value_error)?;
@@ -93,11 +99,30 @@ fn read_record_columns<'py>(
     d.set_item("time_s", PyArray1::from_vec(py, rec.time))?;
     d.set_item("load_point_um", PyArray1::from_vec(py, rec.load_point))?;
     d.set_item("mu", PyArray1::from_vec(py, rec.mu))?;
+    if normal_col.is_some() {
+        d.set_item("normal_stress_mpa", PyArray1::from_vec(py, rec.normal_stress))?;
+    }
     Ok(d)
 }
 
-/// A record from three arrays, checked as the CSV reader checks a file.
-fn record(time: PyReadonlyArray1<f64>, lp: PyReadonlyArray1<f64>, mu: PyReadonlyArray1<f64>) -> PyResult<Record> {
+/// A record from three arrays (and optionally the normal stress, MPa), checked as the CSV
+/// reader checks a file.
+fn record(
+    time: PyReadonlyArray1<f64>,
+    lp: PyReadonlyArray1<f64>,
+    mu: PyReadonlyArray1<f64>,
+    normal_stress: Option<PyReadonlyArray1<f64>>,
+) -> PyResult<Record> {
+    let sn = match normal_stress {
+        Some(a) => a.as_slice()?.to_vec(),
+        None => vec![],
+    };
+    if !sn.is_empty() && sn.len() != time.len()? {
+        return Err(value_error(format!("normal_stress has {} values for {} times", sn.len(), time.len()?)));
+    }
+    if let Some(i) = sn.iter().position(|x| !(*x > 0.0 && x.is_finite())) {
+        return Err(value_error(format!("normal_stress[{i}] = {} must be positive and finite (MPa)", sn[i])));
+    }
     let (time, lp, mu) = (time.as_slice()?.to_vec(), lp.as_slice()?.to_vec(), mu.as_slice()?.to_vec());
     if time.len() != lp.len() || time.len() != mu.len() {
         return Err(value_error(format!(
@@ -123,7 +148,17 @@ fn record(time: PyReadonlyArray1<f64>, lp: PyReadonlyArray1<f64>, mu: PyReadonly
             time[i]
         )));
     }
-    Ok(Record { time, load_point: lp, mu, source: "numpy arrays".into(), ..Default::default() })
+    Ok(Record { time, load_point: lp, mu, normal_stress: sn, source: "numpy arrays".into(), ..Default::default() })
+}
+
+fn normal_stress_mode(mode: &str) -> PyResult<rsf_fit::fit::NormalStressMode> {
+    use rsf_fit::fit::NormalStressMode as M;
+    Ok(match mode {
+        "auto" => M::Auto,
+        "record" => M::Record,
+        "constant" => M::Constant,
+        other => return Err(value_error(format!("normal_stress_mode `{other}`: use auto, record or constant"))),
+    })
 }
 
 fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {
@@ -143,7 +178,8 @@ fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) ->
 
 /// Fits a one-state law to a record (arrays); returns the CLI's fit JSON.
 #[pyfunction]
-#[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false))]
+#[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
+    normal_stress=None, normal_stress_mode="auto", fit_alpha=None))]
 #[allow(clippy::too_many_arguments)]
 fn fit_json(
     py: Python<'_>,
@@ -154,9 +190,19 @@ fn fit_json(
     law: &str,
     loading: &str,
     fit_stiffness: bool,
+    normal_stress: Option<PyReadonlyArray1<f64>>,
+    normal_stress_mode: &str,
+    fit_alpha: Option<&str>,
 ) -> PyResult<String> {
-    let rec = record(time, load_point, mu)?;
-    let opts = fit_options(law, stiffness, loading, fit_stiffness)?;
+    let rec = record(time, load_point, mu, normal_stress)?;
+    let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
+    opts.normal_stress = self::normal_stress_mode(normal_stress_mode)?;
+    opts.alpha = match fit_alpha {
+        None => rsf_fit::fit::AlphaFit::Fixed,
+        Some("shared") => rsf_fit::fit::AlphaFit::Shared,
+        Some("per-state") => rsf_fit::fit::AlphaFit::PerState,
+        Some(other) => return Err(value_error(format!("fit_alpha `{other}`: use shared or per-state"))),
+    };
     let res = py
         .detach(|| {
             let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
@@ -169,7 +215,8 @@ fn fit_json(
 
 /// Diagnoses a record (arrays) as `rsf diagnose` does; returns the CLI's diagnosis JSON.
 #[pyfunction]
-#[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0))]
+#[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0,
+    normal_stress=None, normal_stress_mode="auto"))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_json(
     py: Python<'_>,
@@ -181,12 +228,15 @@ fn diagnose_json(
     loading: &str,
     seed: u64,
     threads: usize,
+    normal_stress: Option<PyReadonlyArray1<f64>>,
+    normal_stress_mode: &str,
 ) -> PyResult<String> {
     if baseline != "slip" && baseline != "aging" {
         return Err(value_error(format!("baseline `{baseline}`: use slip or aging")));
     }
-    let rec = record(time, load_point, mu)?;
-    let fo = fit_options(baseline, stiffness, loading, false)?;
+    let rec = record(time, load_point, mu, normal_stress)?;
+    let mut fo = fit_options(baseline, stiffness, loading, false)?;
+    fo.normal_stress = self::normal_stress_mode(normal_stress_mode)?;
     let d = py
         .detach(|| {
             let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());

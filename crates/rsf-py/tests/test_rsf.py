@@ -142,3 +142,32 @@ def test_bad_arrays_are_refused_with_a_message():
         rsf.fit(time=t, load_point=x, mu=m, stiffness=0.01, law="dieterich")
     with pytest.raises(ValueError, match="differ in length"):
         rsf.fit(time=t, load_point=x[:-1], mu=m, stiffness=0.01)
+
+
+def test_normal_stress_simulate_and_alpha_fit_equal_the_cli():
+    path = os.path.join(ROOT, "examples", "normal_stress_steps.toml")
+    out = rsf.simulate(path)
+    with tempfile.TemporaryDirectory() as d:
+        csv_path = os.path.join(d, "s.csv")
+        cli("simulate", path, "-o", csv_path)
+        with open(csv_path) as f:
+            rows = list(csv.DictReader(f))
+    sn = np.array([float(r["normal_stress_mpa"]) for r in rows])
+    assert np.array_equal(sn, out["normal_stress_mpa"])
+    mu = np.array([float(r["mu"]) for r in rows])
+    assert np.max(np.abs(mu - out["mu"])) <= 1e-12
+    rec_path = os.path.join(ROOT, "tests", "data", "normal_stress", "ns_small_a0.3_s+30.csv")
+    rec = rsf.read_record(rec_path, lp_col="lp_um", normal_col="normal_stress_mpa")
+    assert rec["normal_stress_mpa"][0] == 10.0
+    py = rsf.fit(rec, stiffness=0.01, loading="record", fit_alpha="shared")
+    with tempfile.TemporaryDirectory() as d:
+        j = os.path.join(d, "f.json")
+        cli("fit", rec_path, "--lp-col", "lp_um", "--normal-col", "normal_stress_mpa", "--stiffness", "0.01",
+            "--loading", "record", "--fit-alpha", "--json", j)
+        with open(j) as f:
+            c = json.load(f)
+    assert abs(py["params"]["alpha"][0] / c["params"]["alpha"][0] - 1) < 1e-9
+    assert abs(py["params"]["alpha"][0] - 0.3) < 0.03
+    with pytest.raises(ValueError, match="normal_stress"):
+        rsf.fit(time=rec["time_s"], load_point=rec["load_point_um"], mu=rec["mu"],
+                normal_stress=-rec["normal_stress_mpa"], stiffness=0.01)

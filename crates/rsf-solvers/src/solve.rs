@@ -122,6 +122,22 @@ pub fn initial_state(problem: &Problem) -> Result<Vec<f64>, SolveError> {
     Ok(y)
 }
 
+/// Why a quasi-static run diverges, in words.
+fn blow_up_reason(k: f64, kc: f64) -> String {
+    if k < kc {
+        format!(
+            "the quasi-static system is unstable (stiffness {k} < critical stiffness ≈ {kc:.3e} 1/µm); \
+             add radiation damping (eta) to follow the slip event"
+        )
+    } else {
+        format!(
+            "friction rose past what sliding can carry (stiffness {k} is above the critical ≈ {kc:.3e} 1/µm, so a \
+             sudden change did it, e.g. a normal-stress drop at a fixed load point); a quasi-static model cannot \
+             follow it: make the change a ramp, or add radiation damping (eta)"
+        )
+    }
+}
+
 /// Why a forward solve failed. Messages name the parameter, or the time and values reached.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SolveError {
@@ -135,10 +151,7 @@ pub enum SolveError {
     #[error("{0}")]
     Input(String),
     /// The slip rate diverged: a quasi-static instability.
-    #[error(
-        "slip rate blew up at t = {t:.6} s (V = {v:.3e} µm/s, mu = {mu:.6}): the quasi-static system is unstable \
-         (stiffness {k} < critical stiffness ≈ {kc:.3e} 1/µm); add radiation damping (eta) to follow the slip event"
-    )]
+    #[error("slip rate blew up at t = {t:.6} s (V = {v:.3e} µm/s, mu = {mu:.6}): {}", blow_up_reason(*k, *kc))]
     BlowUp {
         /// Time, s.
         t: f64,

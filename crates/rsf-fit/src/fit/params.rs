@@ -5,6 +5,10 @@ use super::AlphaFit;
 use super::{FitError, FitOptions, Prepared, initial_guess};
 use rsf_core::{Model, N_GLOBAL, PER_STATE, StateVariable, n_params, param_index, state_offset};
 
+/// Starting value of a fitted Linker–Dieterich α: inside (0, 5), mid-range of published
+/// values (0.1–0.6).
+pub const ALPHA_START: f64 = 0.2;
+
 /// A parameter name, parsed: the one place where names such as `b2`, `dc1`, `vc1` or
 /// `mu0_seg3` are read.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -224,7 +228,9 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
             Some((_, v)) => *v,
             None => 0.0,
         };
-        base[off + 3] = 0.0;
+        // α starts inside its domain when fitted: at its bound α = 0 every LM step that
+        // lowers it is rejected, and the other parameters would stall with it
+        base[off + 3] = if opts.alpha == AlphaFit::Fixed { 0.0 } else { ALPHA_START };
     }
     let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
     let log_param = |i: usize| {

@@ -13,11 +13,13 @@
 
 mod consolidate;
 mod moments;
+mod normal;
 mod refine;
 mod split;
 
 use consolidate::consolidate;
 use moments::Moments;
+pub use normal::{NORMAL_STRESS_EVENT, NormalStressEvent, normal_stress_events};
 use serde::Serialize;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;

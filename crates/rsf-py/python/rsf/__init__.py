@@ -51,41 +51,48 @@ def simulate(protocol: str | os.PathLike, time=None, load_point=None) -> dict[st
 
 
 def read_record(path: str | os.PathLike, time_col: str = "time_s", lp_col: str = "load_point_um",
-                mu_col: str = "mu") -> dict[str, np.ndarray]:
+                mu_col: str = "mu", normal_col: str | None = None) -> dict[str, np.ndarray]:
     """Reads a lab record (CSV, tab- or semicolon-separated) with the CLI's column options.
 
-    Returns ``{"time_s", "load_point_um", "mu"}`` as numpy arrays.
+    Returns ``{"time_s", "load_point_um", "mu"}`` as numpy arrays, plus ``normal_stress_mpa``
+    when ``normal_col`` names a normal-stress column (MPa; it can drive the model's σ(t)).
     """
-    return _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col)
+    return _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col)
 
 
-def _columns(record: Mapping[str, Any] | None, time, load_point, mu):
+def _columns(record: Mapping[str, Any] | None, time, load_point, mu, normal_stress=None):
     if record is not None:
         time, load_point, mu = record["time_s"], record["load_point_um"], record["mu"]
-    return (np.ascontiguousarray(time, dtype=np.float64),
-            np.ascontiguousarray(load_point, dtype=np.float64),
-            np.ascontiguousarray(mu, dtype=np.float64))
+        normal_stress = record.get("normal_stress_mpa", normal_stress)
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    return f64(time), f64(load_point), f64(mu), (None if normal_stress is None else f64(normal_stress))
 
 
 def fit(record: Mapping[str, Any] | None = None, *, stiffness: float, law: str = "slip",
-        loading: str = "protocol", fit_stiffness: bool = False, time=None, load_point=None,
-        mu=None) -> dict[str, Any]:
+        loading: str = "protocol", fit_stiffness: bool = False, fit_alpha: str | None = None,
+        normal_stress_mode: str = "auto", time=None, load_point=None, mu=None,
+        normal_stress=None) -> dict[str, Any]:
     """Fits a one-state law to a record (the dict of :func:`read_record`, or the arrays
-    ``time`` s, ``load_point`` µm, ``mu``), as ``rsf fit`` does with the same options.
+    ``time`` s, ``load_point`` µm, ``mu`` and optionally ``normal_stress`` MPa), as ``rsf fit``
+    does with the same options (``fit_alpha``: None, ``"shared"`` or ``"per-state"``, as
+    ``--fit-alpha``; ``normal_stress_mode``: ``"auto"``, ``"record"`` or ``"constant"``).
 
     Returns the fit as the dict of ``rsf fit --json`` (``params`` with ``a``, ``b`` and ``dc``
-    lists, ``mu0``, ``k``; ``ci95``, ``stderr``, ``rms``, ``aic``, ``bic``, ``segments``, …).
+    lists, ``mu0``, ``k``, ``alpha`` when σ drives the model; ``ci95``, ``stderr``, ``rms``,
+    ``aic``, ``bic``, ``segments``, …).
     """
-    t, x, m = _columns(record, time, load_point, mu)
-    return json.loads(_rsf.fit_json(t, x, m, stiffness, law, loading, fit_stiffness))
+    t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
+    return json.loads(_rsf.fit_json(t, x, m, stiffness, law, loading, fit_stiffness, sn, normal_stress_mode,
+                                    fit_alpha))
 
 
 def diagnose(record: Mapping[str, Any] | None = None, *, stiffness: float, baseline: str = "slip",
-             loading: str = "protocol", seed: int = 1, threads: int = 0, time=None,
-             load_point=None, mu=None) -> dict[str, Any]:
+             loading: str = "protocol", seed: int = 1, threads: int = 0, normal_stress_mode: str = "auto",
+             time=None, load_point=None, mu=None, normal_stress=None) -> dict[str, Any]:
     """Diagnoses a record as ``rsf diagnose`` does: the dict of its JSON (``cause``,
     ``gain``, ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, …). The
     result depends on the record, the options and ``seed`` only (not on ``threads``).
     """
-    t, x, m = _columns(record, time, load_point, mu)
-    return json.loads(_rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads))
+    t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
+    return json.loads(_rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn,
+                                         normal_stress_mode))
