@@ -1,7 +1,7 @@
 //! Protocol files (TOML) for `rsf simulate`.
 //!
 //! The parameter rules live in one place — [`Model::validate`], [`Segment::duration`],
-//! [`LoadRecord::validate`] — and this module maps their errors back to the file and line of
+//! [`LoadRecord::validate`](rsf_core::LoadRecord::validate) — and this module maps their errors back to the file and line of
 //! the offending field.
 //!
 //! ```

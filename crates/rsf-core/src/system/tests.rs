@@ -218,8 +218,8 @@ fn normal_stress_step_matches_closed_forms() {
             .with_state(StateVariable::new(Aging, 0.006, 30.0).with_alpha(0.1))
             .with_normal_stress(10.0)
     };
-    for (sm, sp) in [(10.0, 13.0), (10.0, 8.0)] {
-        let ln_r: f64 = (sp / sm as f64).ln();
+    for (sm, sp) in [(10.0f64, 13.0f64), (10.0, 8.0)] {
+        let ln_r: f64 = (sp / sm).ln();
         let alphas = 0.3 + 0.1;
         // finite stiffness
         let m = two(0.01);

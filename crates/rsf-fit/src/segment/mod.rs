@@ -19,7 +19,9 @@ mod split;
 
 use consolidate::consolidate;
 use moments::Moments;
-pub use normal::{NORMAL_STRESS_EVENT, NormalStressEvent, normal_stress_events};
+pub use normal::{
+    NORMAL_STRESS_EVENT, NORMAL_STRESS_PAUSE_S, NORMAL_STRESS_SMOOTHING_S, NormalStressEvent, normal_stress_events,
+};
 use serde::Serialize;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
