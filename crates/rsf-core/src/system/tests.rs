@@ -241,6 +241,12 @@ fn normal_stress_step_matches_closed_forms() {
         sys.normal_stress_step(&mut y, sm, sp).unwrap();
         assert_eq!(y[0], y0[0]);
         assert!((sys.stress(&y) - sys.stress(&y0) + alphas * ln_r).abs() < 1e-14);
+        // regularized form with damping: τ continuous through the iterative slip-rate solve
+        let m = two(0.01).with_form(FrictionForm::Regularized).with_eta(1e-3);
+        let sys = SpringSlider::new(&m, 1.0);
+        let mut y = y0.clone();
+        sys.normal_stress_step(&mut y, sm, sp).unwrap();
+        assert!((sys.stress(&y) - sys.stress(&y0) * sm / sp).abs() < 1e-12, "regularized: τ continuous");
     }
 }
 
