@@ -77,6 +77,13 @@ pub struct McmcResult {
     pub simulations_per_s: f64,
     /// Seed.
     pub seed: u64,
+    /// The draws after burn-in, chain after chain, in physical units: one row per draw, columns
+    /// [`sample_names`](Self::sample_names) (not serialised: the JSON carries the summaries).
+    #[serde(skip)]
+    pub samples: Vec<Vec<f64>>,
+    /// Column names of `samples`: the free parameters, then `sigma`.
+    #[serde(skip)]
+    pub sample_names: Vec<String>,
 }
 
 /// Runs the sampler around the fit `best`.
@@ -87,6 +94,9 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
     let n = p.used.len() as f64;
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     let log_post = |x: &[f64]| -> f64 {
+        if opts.cancelled() {
+            return f64::NEG_INFINITY;
+        }
         let Ok(mu) = model_curve(p, &map, opts, &x[..d - 1], m.rtol) else {
             return f64::NEG_INFINITY;
         };
@@ -135,10 +145,21 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
         handles.into_iter().map(|h| h.join().expect("chain thread panicked")).collect()
     });
     bar.finish_and_clear();
+    if opts.cancelled() {
+        return Err("cancelled".into());
+    }
     let wall = start.elapsed().as_secs_f64();
     let burn = ((steps as f64) * m.burn_fraction) as usize;
     let accepted: usize = results.iter().map(|r| r.1).sum();
     let mut params = BTreeMap::new();
+    let to_phys_k = |k: usize, v: f64| if k == d - 1 || map.is_log(k) { v.exp() } else { v };
+    // the draws after burn-in, chain after chain, in physical units
+    let samples: Vec<Vec<f64>> = results
+        .iter()
+        .flat_map(|(ch, _)| ch[burn..].iter().map(|x| x.iter().enumerate().map(|(k, &v)| to_phys_k(k, v)).collect()))
+        .collect();
+    let mut sample_names = names.clone();
+    sample_names.push("sigma".into());
     for k in 0..d {
         let per_chain: Vec<Vec<f64>> =
             results.iter().map(|(ch, _)| ch[burn..].iter().map(|x| x[k]).collect()).collect();
@@ -167,6 +188,8 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
         wall_s: wall,
         simulations_per_s: sims as f64 / wall,
         seed: m.seed,
+        samples,
+        sample_names,
     })
 }
 

@@ -4,18 +4,60 @@
 //! diagnoses run with the GIL released; every error becomes a `ValueError` with the Rust
 //! message.
 
+mod fitting;
+mod pylaw;
+
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rsf_fit::data::{ReadOptions, Record, read_record};
-use rsf_fit::diagnose::{DiagnoseOptions, diagnose as run_diagnose};
-use rsf_fit::fit::{FitOptions, LoadingMode, fit as run_fit, prepare};
-use rsf_fit::segment::{SegmentOptions, detect};
+use rsf_fit::data::{ReadOptions, read_record};
+use rsf_solvers::SolveError as RustSolveError;
 use std::path::Path;
+
+pyo3::create_exception!(
+    _rsf,
+    SolveError,
+    PyValueError,
+    "A forward solve failed: the message names the time and values reached; attributes `time` \
+     (s), `slip_rate` (µm/s) and `mu` where known (a blow-up), `piece` and `v_lp` for an \
+     integrator failure."
+);
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
+}
+
+/// A solver error as `rsf.SolveError` with its numbers as attributes; bad input stays a
+/// `ValueError`.
+fn solve_error(py: Python<'_>, e: &RustSolveError) -> PyErr {
+    let set = |err: &PyErr, k: &str, v: f64| {
+        let _ = err.value(py).setattr(k, v);
+    };
+    match e {
+        RustSolveError::BlowUp { t, v, mu, .. } => {
+            let err = SolveError::new_err(e.to_string());
+            set(&err, "time", *t);
+            set(&err, "slip_rate", *v);
+            set(&err, "mu", *mu);
+            err
+        }
+        RustSolveError::Integration { piece, v_lp, v, source } => {
+            let err = SolveError::new_err(e.to_string());
+            let t = match source {
+                rsf_solvers::IntegrationError::StepSizeUnderflow { t, .. }
+                | rsf_solvers::IntegrationError::TooManySteps { t, .. }
+                | rsf_solvers::IntegrationError::Stopped { t, .. }
+                | rsf_solvers::IntegrationError::Singular { t } => *t,
+            };
+            set(&err, "time", t);
+            set(&err, "slip_rate", *v);
+            set(&err, "v_lp", *v_lp);
+            let _ = err.value(py).setattr("piece", *piece);
+            err
+        }
+        _ => value_error(e),
+    }
 }
 
 /// A solution as a dict of numpy arrays (θ as rows × states).
@@ -51,7 +93,7 @@ fn solution_dict<'py>(py: Python<'py>, sol: rsf_solvers::Solution) -> PyResult<B
 /// them instead of the protocol's loading (piecewise linear, as a record file), with output at
 /// those times. Returns the solution's columns as numpy arrays.
 #[pyfunction]
-#[pyo3(signature = (toml_text, base_dir=None, name="protocol.toml", time=None, load_point=None))]
+#[pyo3(signature = (toml_text, base_dir=None, name="protocol.toml", time=None, load_point=None, laws=None))]
 fn simulate_toml<'py>(
     py: Python<'py>,
     toml_text: &str,
@@ -59,8 +101,20 @@ fn simulate_toml<'py>(
     name: &str,
     time: Option<PyReadonlyArray1<f64>>,
     load_point: Option<PyReadonlyArray1<f64>>,
+    laws: Option<Vec<Option<Py<PyAny>>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut p = rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    // Python laws replace the placeholder laws of their states
+    let mut py_laws = vec![];
+    for (i, f) in laws.unwrap_or_default().into_iter().enumerate() {
+        let Some(f) = f else { continue };
+        let st = p.problem.model.states.get_mut(i).ok_or_else(|| value_error(format!("no state {}", i + 1)))?;
+        let name =
+            f.bind(py).getattr("__name__").and_then(|n| n.extract::<String>()).unwrap_or_else(|_| "python".into());
+        let law = pylaw::PyLaw::new(f, name);
+        py_laws.push(law.clone());
+        st.law = std::sync::Arc::new(law);
+    }
     match (time, load_point) {
         (None, None) => {}
         (Some(t), Some(x)) => {
@@ -71,8 +125,13 @@ fn simulate_toml<'py>(
         }
         _ => return Err(value_error("give both time and load_point, or neither")),
     }
-    let sol = py.detach(|| p.method.solve(&p.problem)).map_err(value_error)?;
-    solution_dict(py, sol)
+    let sol = py.detach(|| p.method.solve(&p.problem));
+    for l in &py_laws {
+        if let Some(e) = l.error.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            return Err(e);
+        }
+    }
+    solution_dict(py, sol.map_err(|e| solve_error(py, &e))?)
 }
 
 /// Reads a lab record with the CLI's column options; returns `time_s`, `load_point_um`, `mu`
@@ -105,146 +164,14 @@ fn read_record_columns<'py>(
     Ok(d)
 }
 
-/// A record from three arrays (and optionally the normal stress, MPa), checked as the CSV
-/// reader checks a file.
-fn record(
-    time: PyReadonlyArray1<f64>,
-    lp: PyReadonlyArray1<f64>,
-    mu: PyReadonlyArray1<f64>,
-    normal_stress: Option<PyReadonlyArray1<f64>>,
-) -> PyResult<Record> {
-    let sn = match normal_stress {
-        Some(a) => a.as_slice()?.to_vec(),
-        None => vec![],
-    };
-    if !sn.is_empty() && sn.len() != time.len()? {
-        return Err(value_error(format!("normal_stress has {} values for {} times", sn.len(), time.len()?)));
-    }
-    if let Some(i) = sn.iter().position(|x| !(*x > 0.0 && x.is_finite())) {
-        return Err(value_error(format!("normal_stress[{i}] = {} must be positive and finite (MPa)", sn[i])));
-    }
-    let (time, lp, mu) = (time.as_slice()?.to_vec(), lp.as_slice()?.to_vec(), mu.as_slice()?.to_vec());
-    if time.len() != lp.len() || time.len() != mu.len() {
-        return Err(value_error(format!(
-            "time, load_point and mu differ in length ({}, {}, {})",
-            time.len(),
-            lp.len(),
-            mu.len()
-        )));
-    }
-    if time.len() < 10 {
-        return Err(value_error(format!("a record needs at least 10 samples (got {})", time.len())));
-    }
-    for (name, col) in [("time", &time), ("load_point", &lp), ("mu", &mu)] {
-        if let Some(i) = col.iter().position(|x| !x.is_finite()) {
-            return Err(value_error(format!("{name}[{i}] is not finite ({})", col[i])));
-        }
-    }
-    if let Some(i) = time.windows(2).position(|w| !(w[1] > w[0])) {
-        return Err(value_error(format!(
-            "time must increase strictly: time[{}] = {} after time[{i}] = {}",
-            i + 1,
-            time[i + 1],
-            time[i]
-        )));
-    }
-    Ok(Record { time, load_point: lp, mu, normal_stress: sn, source: "numpy arrays".into(), ..Default::default() })
-}
-
-fn normal_stress_mode(mode: &str) -> PyResult<rsf_fit::fit::NormalStressMode> {
-    use rsf_fit::fit::NormalStressMode as M;
-    Ok(match mode {
-        "auto" => M::Auto,
-        "record" => M::Record,
-        "constant" => M::Constant,
-        other => return Err(value_error(format!("normal_stress_mode `{other}`: use auto, record or constant"))),
-    })
-}
-
-fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {
-    if !(stiffness > 0.0 && stiffness.is_finite()) {
-        return Err(value_error(format!("stiffness {stiffness} must be positive and finite (1/µm)")));
-    }
-    let law = rsf_laws::law_by_name(law, |p| Some(if p == "vc" { 0.01 } else { 1.0 })).map_err(value_error)?;
-    let mut o = FitOptions::new(vec![law], stiffness);
-    o.loading = match loading {
-        "protocol" => LoadingMode::Protocol,
-        "record" => LoadingMode::Record,
-        other => return Err(value_error(format!("loading `{other}`: use protocol or record"))),
-    };
-    o.fit_stiffness = fit_stiffness;
-    Ok(o)
-}
-
-/// Fits a one-state law to a record (arrays); returns the CLI's fit JSON.
+/// Checks protocol text as `rsf simulate` does and returns the file's own contents as JSON
+/// (every table and field as written), from which the Python layer builds its objects.
 #[pyfunction]
-#[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
-    normal_stress=None, normal_stress_mode="auto", fit_alpha=None))]
-#[allow(clippy::too_many_arguments)]
-fn fit_json(
-    py: Python<'_>,
-    time: PyReadonlyArray1<f64>,
-    load_point: PyReadonlyArray1<f64>,
-    mu: PyReadonlyArray1<f64>,
-    stiffness: f64,
-    law: &str,
-    loading: &str,
-    fit_stiffness: bool,
-    normal_stress: Option<PyReadonlyArray1<f64>>,
-    normal_stress_mode: &str,
-    fit_alpha: Option<&str>,
-) -> PyResult<String> {
-    let rec = record(time, load_point, mu, normal_stress)?;
-    let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
-    opts.normal_stress = self::normal_stress_mode(normal_stress_mode)?;
-    opts.alpha = match fit_alpha {
-        None => rsf_fit::fit::AlphaFit::Fixed,
-        Some("shared") => rsf_fit::fit::AlphaFit::Shared,
-        Some("per-state") => rsf_fit::fit::AlphaFit::PerState,
-        Some(other) => return Err(value_error(format!("fit_alpha `{other}`: use shared or per-state"))),
-    };
-    let res = py
-        .detach(|| {
-            let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-            let prep = prepare(&rec, &segs, &opts).map_err(|e| e.to_string())?;
-            run_fit(&prep, &opts).map_err(|e| e.to_string())
-        })
-        .map_err(value_error)?;
-    serde_json::to_string(&res).map_err(value_error)
-}
-
-/// Diagnoses a record (arrays) as `rsf diagnose` does; returns the CLI's diagnosis JSON.
-#[pyfunction]
-#[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0,
-    normal_stress=None, normal_stress_mode="auto"))]
-#[allow(clippy::too_many_arguments)]
-fn diagnose_json(
-    py: Python<'_>,
-    time: PyReadonlyArray1<f64>,
-    load_point: PyReadonlyArray1<f64>,
-    mu: PyReadonlyArray1<f64>,
-    stiffness: f64,
-    baseline: &str,
-    loading: &str,
-    seed: u64,
-    threads: usize,
-    normal_stress: Option<PyReadonlyArray1<f64>>,
-    normal_stress_mode: &str,
-) -> PyResult<String> {
-    if baseline != "slip" && baseline != "aging" {
-        return Err(value_error(format!("baseline `{baseline}`: use slip or aging")));
-    }
-    let rec = record(time, load_point, mu, normal_stress)?;
-    let mut fo = fit_options(baseline, stiffness, loading, false)?;
-    fo.normal_stress = self::normal_stress_mode(normal_stress_mode)?;
-    let d = py
-        .detach(|| {
-            let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-            run_diagnose(&rec, &segs, &DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) })
-                .map_err(|e| e.to_string())
-        })
-        .map_err(value_error)?;
-    serde_json::to_string(&d).map_err(value_error)
+#[pyo3(signature = (toml_text, base_dir=None, name="protocol.toml"))]
+fn protocol_json(toml_text: &str, base_dir: Option<&str>, name: &str) -> PyResult<String> {
+    rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    let v: toml::Value = toml::from_str(toml_text).map_err(value_error)?;
+    serde_json::to_string(&v).map_err(value_error)
 }
 
 /// The compiled module.
@@ -252,7 +179,9 @@ fn diagnose_json(
 fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_toml, m)?)?;
     m.add_function(wrap_pyfunction!(read_record_columns, m)?)?;
-    m.add_function(wrap_pyfunction!(fit_json, m)?)?;
-    m.add_function(wrap_pyfunction!(diagnose_json, m)?)?;
+    m.add_function(wrap_pyfunction!(protocol_json, m)?)?;
+    m.add_function(wrap_pyfunction!(fitting::fit_json, m)?)?;
+    m.add_function(wrap_pyfunction!(fitting::diagnose_json, m)?)?;
+    m.add("SolveError", m.py().get_type::<SolveError>())?;
     Ok(())
 }

@@ -171,3 +171,119 @@ def test_normal_stress_simulate_and_alpha_fit_equal_the_cli():
     with pytest.raises(ValueError, match="normal_stress"):
         rsf.fit(time=rec["time_s"], load_point=rec["load_point_um"], mu=rec["mu"],
                 normal_stress=-rec["normal_stress_mpa"], stiffness=0.01)
+
+
+def test_objects_and_load_protocol_equal_the_cli():
+    for name in ["step_down.toml", "two_state_mixed.toml", "normal_stress_steps.toml", "slide_hold_slide.toml"]:
+        path = os.path.join(ROOT, "examples", name)
+        setup = rsf.load_protocol(path)
+        assert isinstance(setup.model, rsf.Model) and isinstance(setup.model.states[0], rsf.State)
+        out = rsf.simulate(setup)
+        with tempfile.TemporaryDirectory() as d:
+            csv_path = os.path.join(d, "s.csv")
+            cli("simulate", path, "-o", csv_path)
+            with open(csv_path) as f:
+                rows = list(csv.DictReader(f))
+        mu = np.array([float(r["mu"]) for r in rows])
+        assert np.array_equal(mu, out.mu), name  # the same problem, bit for bit
+    # built from objects: the same numbers as the file
+    m = rsf.Model(mu0=0.65, v0=1.0, a=0.013, stiffness=0.065, states=[rsf.State("slip", b=0.016, dc=2.07)])
+    p = rsf.Protocol(v_init=3.0, segments=[(3.0, {"duration": 4.0}), (0.003, {"duration": 100.0})])
+    a = rsf.simulate(m, p, dt=0.5, method="auto", rtol=1e-10, atol=1e-12)
+    b = rsf.simulate(rsf.Setup(m, p, {"dt": 0.5}, {"method": "auto", "rtol": 1e-10, "atol": 1e-12}))
+    assert np.array_equal(a.mu, b.mu) and a.theta_s.shape == (len(a.mu), 1)
+    with pytest.raises(ValueError, match="dt"):
+        rsf.simulate(m, p)
+    with pytest.raises(ValueError, match="model.state\\[1\\].dc"):
+        rsf.simulate(rsf.Model(0.6, 1.0, 0.01, 0.01, [rsf.State("slip", b=0.01, dc=-1.0)]), p, dt=1.0)
+
+
+def test_to_pandas_when_available():
+    pd = pytest.importorskip("pandas")
+    out = rsf.simulate(os.path.join(ROOT, "examples", "two_state_mixed.toml"))
+    df = out.to_pandas()
+    assert isinstance(df, pd.DataFrame) and list(df.columns[:3]) == ["time_s", "load_point_um", "mu"]
+    assert "theta_2_s" in df.columns
+
+
+def test_a_python_law_equals_the_built_in_slip_law():
+    calls = []
+
+    def slip(v, theta, dc, b, stress_rate):
+        calls.append(1)
+        om = v * theta / dc
+        return -om * np.log(om)
+
+    m = lambda law: rsf.Model(mu0=0.6, v0=1.0, a=0.01, stiffness=1e-3, states=[rsf.State(law, b=0.015, dc=10.0)])
+    p = rsf.Protocol(v_init=1.0, segments=[(10.0, {"displacement": 100.0}), (0.0, {"duration": 100.0}),
+                                           (1.0, {"duration": 50.0})])
+    for method in ["tsit5", "rodas5p"]:
+        ref = rsf.simulate(m("slip"), p, dt=1.0, method=method, rtol=1e-10)
+        got = rsf.simulate(m(slip), p, dt=1.0, method=method, rtol=1e-10)
+        # explicit: the same arithmetic; implicit: finite-difference Jacobian, same tolerance
+        tol = 1e-12 if method == "tsit5" else 1e-8
+        assert np.max(np.abs(got.mu - ref.mu)) < tol, method
+    assert len(calls) > 100
+
+    def broken(v, theta, dc, b, stress_rate):
+        raise RuntimeError("my law is broken")
+
+    with pytest.raises(RuntimeError, match="my law is broken"):
+        rsf.simulate(m(broken), p, dt=1.0)
+
+
+def test_solve_errors_carry_time_and_values():
+    # below critical stiffness without damping: a quasi-static blow-up
+    m = rsf.Model(mu0=0.6, v0=1.0, a=0.005, stiffness=1e-5, states=[rsf.State("slip", b=0.01, dc=10.0)])
+    p = rsf.Protocol(v_init=1.0, segments=[(10.0, {"duration": 500.0})])
+    with pytest.raises(rsf.SolveError, match="blew up") as e:
+        rsf.simulate(m, p, dt=1.0)
+    assert e.value.time > 0 and e.value.slip_rate > 1.0 and 0 < e.value.mu < 1
+    assert isinstance(e.value, ValueError)
+
+
+def test_fit_result_mcmc_samples_and_json():
+    rec = rsf.read_record(BASALT, **COLS)
+    r = rsf.fit(rec, law="slip", stiffness=0.0151, fit_stiffness=True, mcmc=2000, chains=2, seed=3)
+    assert r.samples.shape[1] == len(r.sample_names) and r.sample_names[-1] == "sigma"
+    assert r.samples.shape[0] >= 1000
+    k = r.sample_names.index("a")
+    assert abs(np.median(r.samples[:, k]) - r.mcmc["params"]["a"]["median"]) < 1e-12
+    assert isinstance(r.curve.model, np.ndarray) and r.curve.model.shape == r.curve.data.shape
+    back = json.loads(r.to_json())
+    assert back["params"]["a"] == r.params["a"] and "samples" not in back and "curve" not in back
+    # the same MCMC again from the same seed
+    r2 = rsf.fit(rec, law="slip", stiffness=0.0151, fit_stiffness=True, mcmc=2000, chains=2, seed=3)
+    assert np.array_equal(r.samples, r2.samples)
+
+
+def test_diagnosis_object_writes_its_report():
+    path = os.path.join(ROOT, "tests", "data", "normal_stress", "ns_small_a0.3_s+30.csv")
+    rec = rsf.read_record(path, lp_col="lp_um", normal_col="normal_stress_mpa")
+    d = rsf.diagnose(rec, stiffness=0.01, threads=1)
+    assert d.cause == "normal_stress_coupling"
+    assert abs(d.effect["alpha"] - 0.3) < 0.03
+    with tempfile.TemporaryDirectory() as tmp:
+        html = os.path.join(tmp, "r.html")
+        d.write_report(html)
+        text = open(html, encoding="utf-8").read()
+    assert text.lower().startswith("<!doctype html>") and "normal_stress_coupling" in text
+
+
+def test_ctrl_c_stops_a_diagnosis():
+    import signal
+    import threading
+    import time as clock
+    rec = rsf.read_record(BASALT, **COLS)
+    t0 = clock.perf_counter()
+    full = rsf.diagnose(rec, stiffness=0.0151, threads=1)
+    t_full = clock.perf_counter() - t0
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = clock.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        rsf.diagnose(rec, stiffness=0.0151, threads=1)
+    t_stop = clock.perf_counter() - t0
+    timer.cancel()
+    assert full.cause == "slip_trend"
+    assert t_stop < 0.3 + 0.5 * t_full, f"stopped after {t_stop:.2f} s (a full run takes {t_full:.2f} s)"

@@ -24,6 +24,9 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     let hit = Cell::new(None::<BudgetHit>);
     let clock = std::time::Instant::now();
     let objective = |theta: &[f64]| -> Result<Eval, SolveError> {
+        if opts.cancelled() {
+            return Err(SolveError::Input("cancelled".into()));
+        }
         if used.get() >= cap.get() {
             hit.set(Some(BudgetHit::StepBudget));
             return Err(SolveError::Input("the fit's step budget is exhausted".into()));

@@ -98,6 +98,17 @@ pub struct FitOptions {
     pub normal_stress: NormalStressMode,
     /// Which α are fitted.
     pub alpha: AlphaFit,
+    /// Set from another thread to stop the fit (and MCMC, and a diagnosis) at its next model
+    /// evaluation: every evaluation then fails, so the work winds down within one solve. The
+    /// Python package sets it on KeyboardInterrupt.
+    pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
+}
+
+impl FitOptions {
+    /// Whether [`cancel`](Self::cancel) has been set.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.as_ref().is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 /// The work a fit may do, counted in integrator steps of its forward solves, never in wall
@@ -179,6 +190,7 @@ impl FitOptions {
             budget: Budget::default(),
             normal_stress: NormalStressMode::Auto,
             alpha: AlphaFit::Fixed,
+            cancel: None,
         }
     }
 }

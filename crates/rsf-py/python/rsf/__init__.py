@@ -1,57 +1,307 @@
 """rsf: rate-and-state friction from Python, with the Rust crates inside.
 
-numpy arrays in and out; results of fits and diagnoses are the dicts of the CLI's JSON
-(``rsf fit --json``, ``rsf diagnose --json``). Units as everywhere in rsf: µm, s, µm/s, 1/µm.
+numpy arrays in and out. Units as everywhere in rsf: µm, s, µm/s, 1/µm, MPa.
 
 >>> import rsf
->>> out = rsf.simulate("examples/step_down.toml")          # a protocol file, as `rsf simulate`
+>>> model = rsf.Model(mu0=0.6, v0=1.0, a=0.01, stiffness=1e-3, states=[rsf.State("slip", b=0.015, dc=10.0)])
+>>> step = rsf.Protocol(v_init=1.0, segments=[(10.0, {"displacement": 200.0})])
+>>> out = rsf.simulate(model, step, dt=0.1)                     # out.mu, out.time_s, …
+>>> same = rsf.simulate(rsf.load_protocol("examples/step_down.toml"))   # = rsf simulate FILE
 >>> rec = rsf.read_record("examples/data/giacomel-basalt/velstep4_BRAVA_expb819_basalt.txt",
 ...                       time_col="Time(s)", lp_col="Displ(microns)", mu_col="Friction")
 >>> fit = rsf.fit(rec, law="slip", stiffness=0.0151, fit_stiffness=True)
->>> fit["params"]["a"], fit["params"]["dc"]
+>>> fit.params["a"], fit.ci95["a"]
+>>> d = rsf.diagnose(rec, stiffness=0.0151); d.cause; d.write_report("basalt.html")
+
+Results are dicts of the CLI's JSON (``rsf fit --json``, ``rsf diagnose --json``) with
+attribute access; solves, fits and diagnoses release the GIL; Ctrl-C stops a fit or a
+diagnosis within one model evaluation. Errors: ``ValueError`` with the CLI's message, and
+``rsf.SolveError`` (a ValueError) when a forward solve fails, with ``time``, ``slip_rate`` and
+``mu`` attributes.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
-from typing import Any, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _rsf
 
-__all__ = ["simulate", "read_record", "fit", "diagnose"]
+SolveError = _rsf.SolveError
+
+__all__ = [
+    "State", "Model", "Protocol", "Setup", "load_protocol", "simulate", "read_record", "fit",
+    "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS",
+]
+
+#: Built-in state laws by name.
+LAWS = ("aging", "slip", "kato-tullis", "prz", "nagata")
+
+ThetaRate = Callable[[float, float, float, float, float], float]
 
 
-def simulate(protocol: str | os.PathLike, time=None, load_point=None) -> dict[str, Any]:
-    """Solves a protocol (a TOML file path, or TOML text) exactly as ``rsf simulate`` does.
+# ---------------------------------------------------------------------------- model objects
 
-    With ``time`` (s) and ``load_point`` (µm) arrays, a measured load point drives the model
-    instead of the protocol's loading (piecewise linear between samples), with output at
-    ``time``; the protocol then supplies the model, ``v_init`` and the solver.
+@dataclass
+class State:
+    """One state variable: its evolution ``law`` (a built-in name, or a Python callable
+    ``theta_rate(v, theta, dc, b, stress_rate) -> dθ/dt``), ``b``, ``dc`` (µm), the law's own
+    parameter (``vc`` µm/s for Kato–Tullis, ``c`` for Nagata) and the Linker–Dieterich ``alpha``.
 
-    Returns a dict of numpy arrays: ``time_s``, ``load_point_um``, ``mu``,
-    ``slip_rate_um_s``, ``slip_um``, ``theta_s`` (rows × state variables), plus
-    ``peak_slip_rate_um_s`` when the protocol asks for it, ``method`` and ``steps``.
-    Raises ValueError with the CLI's message (file, line and field) on a bad protocol or a
-    failed solve.
+    A Python law is the slow path: about 1 µs per call, one call per state per right-hand side,
+    derivatives for implicit methods by central differences.
     """
-    text = os.fspath(protocol)
+    law: Union[str, ThetaRate]
+    b: float
+    dc: float
+    vc: Optional[float] = None
+    c: Optional[float] = None
+    alpha: float = 0.0
+
+
+@dataclass
+class Model:
+    """A rate-and-state model on a spring: ``mu0``, ``v0`` (µm/s), ``a``, ``stiffness`` k
+    (1/µm; ``math.inf`` imposes V = V_lp), the ``states``, radiation damping ``eta`` (friction
+    per µm/s), ``form`` (``"classic"`` or ``"regularized"``) and ``normal_stress`` σ_ref (MPa).
+    """
+    mu0: float
+    v0: float
+    a: float
+    stiffness: float
+    states: list = field(default_factory=list)
+    eta: float = 0.0
+    form: str = "classic"
+    normal_stress: Optional[float] = None
+
+
+@dataclass
+class Protocol:
+    """The loading: steady state at ``v_init`` (µm/s), then ``segments`` — each ``(v, spec)``
+    with ``spec`` a dict holding ``duration`` (s) or ``displacement`` (µm), and optionally
+    ``normal_stress`` (MPa, a step at the segment's start) and ``normal_stress_rate`` (MPa/s) —
+    or a measured ``record`` (a file path; ``time_column``, ``load_point_column``,
+    ``friction_column``, ``normal_stress_column``).
+    """
+    v_init: float
+    segments: list = field(default_factory=list)
+    record: Optional[str] = None
+    time_column: Optional[str] = None
+    load_point_column: Optional[str] = None
+    friction_column: Optional[str] = None
+    normal_stress_column: Optional[str] = None
+
+
+@dataclass
+class Setup:
+    """Everything a protocol file holds: ``model``, ``protocol``, ``output`` (``dt``,
+    ``peak_slip_rate``, ``event_slip_rate``), ``solver`` (``method``, ``rtol``, ``atol``,
+    ``max_slip_rate``) and ``initial`` (``v``, ``theta``). ``rsf.simulate(setup)`` gives exactly
+    what ``rsf simulate FILE`` writes.
+    """
+    model: Model
+    protocol: Protocol
+    output: dict = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)
+    initial: Optional[dict] = None
+    source: str = "protocol.toml"
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float, np.floating, np.integer)):
+        x = float(v)
+        if math.isinf(x):
+            return "inf" if x > 0 else "-inf"
+        if math.isnan(x):
+            return "nan"
+        return repr(x)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {v!r} to a protocol")
+
+
+def _table(lines: list, header: str, fields: Mapping[str, Any]) -> None:
+    lines.append(header)
+    for k, v in fields.items():
+        if v is not None:
+            lines.append(f"{k} = {_toml_value(v)}")
+
+
+def _to_toml(setup: Setup) -> str:
+    m, p = setup.model, setup.protocol
+    lines: list = []
+    _table(lines, "[model]", dict(mu0=m.mu0, v0=m.v0, a=m.a, stiffness=m.stiffness, eta=m.eta, form=m.form,
+                                  normal_stress=m.normal_stress))
+    for s in m.states:
+        law = s.law if isinstance(s.law, str) else "aging"  # placeholder for a Python law
+        _table(lines, "[[model.state]]", dict(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None))
+    _table(lines, "[loading]", dict(v_init=p.v_init, record=p.record, time_column=p.time_column,
+                                    load_point_column=p.load_point_column, friction_column=p.friction_column,
+                                    normal_stress_column=p.normal_stress_column))
+    for seg in p.segments:
+        v, spec = (seg["v"], {k: x for k, x in seg.items() if k != "v"}) if isinstance(seg, Mapping) else seg
+        _table(lines, "[[loading.segment]]", dict(v=v, **spec))
+    if setup.output:
+        _table(lines, "[output]", setup.output)
+    if setup.solver:
+        _table(lines, "[solver]", setup.solver)
+    if setup.initial:
+        _table(lines, "[initial]", setup.initial)
+    return "\n".join(lines) + "\n"
+
+
+def load_protocol(path: Union[str, os.PathLike]) -> Setup:
+    """Reads a protocol file (checked exactly as ``rsf simulate`` checks it) into a
+    :class:`Setup` of Python objects; a measured record's path becomes absolute."""
+    path = os.fspath(path)
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    base = os.path.dirname(os.path.abspath(path))
+    raw = json.loads(_rsf.protocol_json(text, base, path))
+    rm = raw["model"]
+    states = [State(law=s["law"], b=s["b"], dc=s["dc"], vc=s.get("vc"), c=s.get("c"), alpha=s.get("alpha", 0.0))
+              for s in rm.get("state", [])]
+    model = Model(mu0=rm["mu0"], v0=rm["v0"], a=rm["a"], stiffness=rm["stiffness"], states=states,
+                  eta=rm.get("eta", 0.0), form=rm.get("form", "classic"), normal_stress=rm.get("normal_stress"))
+    rl = raw["loading"]
+    record = rl.get("record")
+    if record is not None and not os.path.isabs(record):
+        record = os.path.join(base, record)
+    segments = [(s["v"], {k: x for k, x in s.items() if k != "v"}) for s in rl.get("segment", [])]
+    protocol = Protocol(v_init=rl["v_init"], segments=segments, record=record, time_column=rl.get("time_column"),
+                        load_point_column=rl.get("load_point_column"), friction_column=rl.get("friction_column"),
+                        normal_stress_column=rl.get("normal_stress_column"))
+    return Setup(model=model, protocol=protocol, output=raw.get("output", {}), solver=raw.get("solver", {}),
+                 initial=raw.get("initial"), source=path)
+
+
+# ---------------------------------------------------------------------------- results
+
+class _AttrDict(dict):
+    """A dict whose keys read as attributes too."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+
+class SimulationResult(_AttrDict):
+    """Columns of a solution as numpy arrays: ``time_s``, ``load_point_um``, ``mu``,
+    ``slip_rate_um_s``, ``slip_um``, ``theta_s`` (rows × state variables), and
+    ``peak_slip_rate_um_s`` / ``normal_stress_mpa`` when present; ``method``, ``steps``."""
+
+    def to_pandas(self):
+        """The columns as a pandas DataFrame (``theta_1_s``, ``theta_2_s``, … for θ)."""
+        import pandas as pd  # optional dependency
+        cols = {k: v for k, v in self.items() if isinstance(v, np.ndarray) and v.ndim == 1}
+        theta = self["theta_s"]
+        for i in range(theta.shape[1]):
+            cols[f"theta_{i + 1}_s"] = theta[:, i]
+        return pd.DataFrame(cols)
+
+
+class FitResult(_AttrDict):
+    """A fit: the dict of ``rsf fit --json`` (``params``, ``ci95``, ``stderr``, ``rms``, ``aic``,
+    ``bic``, ``segments``, …) plus ``curve`` (numpy arrays ``time``, ``load_point``, ``data``,
+    ``model``, ``slip_rate`` at the used samples) and ``samples`` (MCMC draws, rows ×
+    ``sample_names``)."""
+
+    def __init__(self, raw: Mapping[str, Any], samples: Sequence, names: Sequence[str],
+                 curve: Sequence = ()):
+        super().__init__(raw)
+        self["curve"] = _AttrDict({k: np.asarray(v, dtype=np.float64) for k, v in curve})
+        self["samples"] = np.asarray(samples, dtype=np.float64).reshape(len(samples), len(names))
+        self["sample_names"] = list(names)
+
+    def to_json(self, indent: Optional[int] = 2) -> str:
+        """The fit as the JSON ``rsf fit --json`` writes (numpy arrays as lists, no samples)."""
+        out = {k: v for k, v in self.items() if k not in ("samples", "sample_names", "curve")}
+        return json.dumps(out, indent=indent, default=lambda a: a.tolist())
+
+
+class Diagnosis(_AttrDict):
+    """A diagnosis: the dict of ``rsf diagnose --json`` (``cause``, ``gain``, ``candidates``,
+    ``evidence``, …)."""
+
+    def __init__(self, raw: Mapping[str, Any], html: str):
+        super().__init__(raw)
+        self._html = html
+
+    def write_report(self, path: Union[str, os.PathLike]) -> None:
+        """Writes the self-contained HTML report (``rsf diagnose --report``)."""
+        with open(os.fspath(path), "w", encoding="utf-8") as f:
+            f.write(self._html)
+
+    def to_json(self, indent: Optional[int] = 2) -> str:
+        return json.dumps(dict(self), indent=indent)
+
+
+# ---------------------------------------------------------------------------- functions
+
+def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Protocol] = None, *,
+             dt: Optional[float] = None, method: Optional[str] = None, rtol: Optional[float] = None,
+             atol: Optional[float] = None, time=None, load_point=None) -> SimulationResult:
+    """Solves a forward problem: ``simulate(model, protocol, dt=…)``, ``simulate(setup)`` (from
+    :func:`load_protocol`), or ``simulate(path_or_toml_text)`` — exactly as ``rsf simulate``.
+
+    ``method``: ``"auto"`` (default), ``"tsit5"``, ``"dopri5"``, ``"rodas5p"``, ``"rodas4"``,
+    ``"explicit"``, ``"implicit"``. With ``time`` (s) and ``load_point`` (µm) arrays a measured
+    load point drives the model (piecewise linear) with output at ``time``.
+    Raises ValueError (bad input, the CLI's message) or :class:`SolveError` (a failed solve).
+    """
     arrays = {}
     if time is not None or load_point is not None:
         arrays = dict(time=None if time is None else np.ascontiguousarray(time, dtype=np.float64),
                       load_point=None if load_point is None else np.ascontiguousarray(load_point, dtype=np.float64))
-    if "\n" not in text and os.path.exists(text):
-        with open(text, encoding="utf-8") as f:
-            body = f.read()
-        base = os.path.dirname(os.path.abspath(text))
-        return _rsf.simulate_toml(body, base, text, **arrays)
-    return _rsf.simulate_toml(text, None, "protocol.toml", **arrays)
+    if isinstance(model, (str, os.PathLike)):
+        text = os.fspath(model)
+        if "\n" not in text and os.path.exists(text):
+            if protocol is None and dt is None and method is None and rtol is None and atol is None:
+                with open(text, encoding="utf-8") as f:
+                    body = f.read()
+                base = os.path.dirname(os.path.abspath(text))
+                return SimulationResult(_rsf.simulate_toml(body, base, text, **arrays))
+            model = load_protocol(text)
+        else:
+            return SimulationResult(_rsf.simulate_toml(text, None, "protocol.toml", **arrays))
+    if isinstance(model, Setup):
+        setup = Setup(model.model, protocol or model.protocol, dict(model.output), dict(model.solver),
+                      model.initial, model.source)
+    elif isinstance(model, Model):
+        if protocol is None:
+            raise ValueError("simulate(model, protocol): give the protocol")
+        setup = Setup(model, protocol, {}, {}, None)
+    else:
+        raise TypeError(f"simulate: expected a Model, a Setup or a protocol path, got {type(model).__name__}")
+    if dt is not None:
+        setup.output["dt"] = dt
+    elif "dt" not in setup.output and setup.protocol.record is None and "time" not in arrays:
+        raise ValueError("simulate: give dt (s), the output sampling interval")
+    for k, v in (("method", method), ("rtol", rtol), ("atol", atol)):
+        if v is not None:
+            setup.solver[k] = v
+    laws = [None if isinstance(s.law, str) else s.law for s in setup.model.states]
+    for s in setup.model.states:
+        if not isinstance(s.law, str) and not callable(s.law):
+            raise ValueError(f"state law {s.law!r}: give a name ({', '.join(LAWS)}) or a callable")
+    text = _to_toml(setup)
+    base = os.path.dirname(os.path.abspath(setup.source)) if setup.source else None
+    return SimulationResult(_rsf.simulate_toml(text, base, setup.source, laws=laws, **arrays))
 
 
-def read_record(path: str | os.PathLike, time_col: str = "time_s", lp_col: str = "load_point_um",
-                mu_col: str = "mu", normal_col: str | None = None) -> dict[str, np.ndarray]:
+def read_record(path: Union[str, os.PathLike], time_col: str = "time_s", lp_col: str = "load_point_um",
+                mu_col: str = "mu", normal_col: Optional[str] = None) -> dict:
     """Reads a lab record (CSV, tab- or semicolon-separated) with the CLI's column options.
 
     Returns ``{"time_s", "load_point_um", "mu"}`` as numpy arrays, plus ``normal_stress_mpa``
@@ -60,39 +310,55 @@ def read_record(path: str | os.PathLike, time_col: str = "time_s", lp_col: str =
     return _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col)
 
 
-def _columns(record: Mapping[str, Any] | None, time, load_point, mu, normal_stress=None):
+def _columns(record: Optional[Mapping[str, Any]], time, load_point, mu, normal_stress=None):
     if record is not None:
         time, load_point, mu = record["time_s"], record["load_point_um"], record["mu"]
         normal_stress = record.get("normal_stress_mpa", normal_stress)
-    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    if time is None or load_point is None or mu is None:
+        raise ValueError("give a record (from rsf.read_record) or the arrays time, load_point and mu")
+
+    def f64(a):
+        return np.ascontiguousarray(a, dtype=np.float64)
     return f64(time), f64(load_point), f64(mu), (None if normal_stress is None else f64(normal_stress))
 
 
-def fit(record: Mapping[str, Any] | None = None, *, stiffness: float, law: str = "slip",
-        loading: str = "protocol", fit_stiffness: bool = False, fit_alpha: str | None = None,
-        normal_stress_mode: str = "auto", time=None, load_point=None, mu=None,
-        normal_stress=None) -> dict[str, Any]:
-    """Fits a one-state law to a record (the dict of :func:`read_record`, or the arrays
-    ``time`` s, ``load_point`` µm, ``mu`` and optionally ``normal_stress`` MPa), as ``rsf fit``
-    does with the same options (``fit_alpha``: None, ``"shared"`` or ``"per-state"``, as
-    ``--fit-alpha``; ``normal_stress_mode``: ``"auto"``, ``"record"`` or ``"constant"``).
+def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: str = "slip",
+        laws: Optional[Sequence[str]] = None, loading: str = "protocol", fit_stiffness: bool = False,
+        fit_slip_trend: bool = False, fit_alpha: Optional[str] = None, normal_stress_mode: str = "auto",
+        fix: Sequence[str] = (), initial: Optional[Mapping[str, float]] = None, rtol: float = 1e-7,
+        starts: int = 5, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
+        time=None, load_point=None, mu=None, normal_stress=None) -> FitResult:
+    """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
+    ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
+    ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
+    state), ``loading`` (``"protocol"`` or ``"record"``), ``fit_stiffness``, ``fit_slip_trend``,
+    ``fit_alpha`` (None, ``"shared"``, ``"per-state"``), ``fix`` (e.g. ``["a-b=-0.003"]``),
+    ``initial`` (name → value), ``mcmc`` (total samples; ``chains``, ``seed``), ``progress``
+    (MCMC progress bar on stderr).
 
-    Returns the fit as the dict of ``rsf fit --json`` (``params`` with ``a``, ``b`` and ``dc``
-    lists, ``mu0``, ``k``, ``alpha`` when σ drives the model; ``ci95``, ``stderr``, ``rms``,
-    ``aic``, ``bic``, ``segments``, …).
+    Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
+    ``k``, ``g``, ``alpha``…), ``ci95``, ``stderr``, ``rms``, ``aic``, ``bic``, ``segments``,
+    ``curve`` (numpy arrays ``time``, ``data``, ``model``…), ``mcmc`` summaries and ``samples``.
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
-    return json.loads(_rsf.fit_json(t, x, m, stiffness, law, loading, fit_stiffness, sn, normal_stress_mode,
-                                    fit_alpha))
+    raw, samples, names, curve = _rsf.fit_json(
+        t, x, m, stiffness, law=law, loading=loading, fit_stiffness=fit_stiffness, normal_stress=sn,
+        normal_stress_mode=normal_stress_mode, fit_alpha=fit_alpha, laws=None if laws is None else list(laws),
+        fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
+        starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress)
+    return FitResult(json.loads(raw), samples, names, curve)
 
 
-def diagnose(record: Mapping[str, Any] | None = None, *, stiffness: float, baseline: str = "slip",
+def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",
              loading: str = "protocol", seed: int = 1, threads: int = 0, normal_stress_mode: str = "auto",
-             time=None, load_point=None, mu=None, normal_stress=None) -> dict[str, Any]:
-    """Diagnoses a record as ``rsf diagnose`` does: the dict of its JSON (``cause``,
-    ``gain``, ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, …). The
-    result depends on the record, the options and ``seed`` only (not on ``threads``).
+             report: Optional[Union[str, os.PathLike]] = None, name: str = "record", progress: bool = False,
+             time=None, load_point=None, mu=None, normal_stress=None) -> Diagnosis:
+    """Diagnoses a record as ``rsf diagnose`` does: a :class:`Diagnosis` (``cause``, ``gain``,
+    ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, …; ``write_report``).
+    The result depends on the record, the options and ``seed`` only (not on ``threads``).
+    ``progress=True`` prints each finished fit on stderr.
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
-    return json.loads(_rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn,
-                                         normal_stress_mode))
+    raw, html = _rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn, normal_stress_mode,
+                                   None if report is None else os.fspath(report), name, progress)
+    return Diagnosis(json.loads(raw), html)

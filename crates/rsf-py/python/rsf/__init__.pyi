@@ -1,0 +1,147 @@
+# Type stubs of the rsf package (units: µm, s, µm/s, 1/µm, MPa).
+import os
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+ThetaRate = Callable[[float, float, float, float, float], float]
+LAWS: tuple[str, ...]
+
+class SolveError(ValueError):
+    time: float
+    slip_rate: float
+    mu: float
+    piece: int
+    v_lp: float
+
+@dataclass
+class State:
+    law: Union[str, ThetaRate]
+    b: float
+    dc: float
+    vc: Optional[float] = ...
+    c: Optional[float] = ...
+    alpha: float = ...
+
+@dataclass
+class Model:
+    mu0: float
+    v0: float
+    a: float
+    stiffness: float
+    states: list[State] = ...
+    eta: float = ...
+    form: str = ...
+    normal_stress: Optional[float] = ...
+
+@dataclass
+class Protocol:
+    v_init: float
+    segments: list[Any] = ...
+    record: Optional[str] = ...
+    time_column: Optional[str] = ...
+    load_point_column: Optional[str] = ...
+    friction_column: Optional[str] = ...
+    normal_stress_column: Optional[str] = ...
+
+@dataclass
+class Setup:
+    model: Model
+    protocol: Protocol
+    output: dict[str, Any] = ...
+    solver: dict[str, Any] = ...
+    initial: Optional[dict[str, Any]] = ...
+    source: str = ...
+
+class SimulationResult(dict[str, Any]):
+    time_s: npt.NDArray[np.float64]
+    load_point_um: npt.NDArray[np.float64]
+    mu: npt.NDArray[np.float64]
+    slip_rate_um_s: npt.NDArray[np.float64]
+    slip_um: npt.NDArray[np.float64]
+    theta_s: npt.NDArray[np.float64]
+    method: str
+    steps: int
+    def to_pandas(self) -> Any: ...
+
+class FitResult(dict[str, Any]):
+    params: dict[str, Any]
+    ci95: dict[str, list[float]]
+    stderr: dict[str, float]
+    rms: float
+    aic: float
+    bic: float
+    segments: list[dict[str, Any]]
+    curve: dict[str, npt.NDArray[np.float64]]
+    samples: npt.NDArray[np.float64]
+    sample_names: list[str]
+    def to_json(self, indent: Optional[int] = ...) -> str: ...
+
+class Diagnosis(dict[str, Any]):
+    cause: str
+    candidates: list[dict[str, Any]]
+    def write_report(self, path: Union[str, os.PathLike[str]]) -> None: ...
+    def to_json(self, indent: Optional[int] = ...) -> str: ...
+
+def load_protocol(path: Union[str, os.PathLike[str]]) -> Setup: ...
+def simulate(
+    model: Union[Model, Setup, str, os.PathLike[str]],
+    protocol: Optional[Protocol] = ...,
+    *,
+    dt: Optional[float] = ...,
+    method: Optional[str] = ...,
+    rtol: Optional[float] = ...,
+    atol: Optional[float] = ...,
+    time: Optional[npt.ArrayLike] = ...,
+    load_point: Optional[npt.ArrayLike] = ...,
+) -> SimulationResult: ...
+def read_record(
+    path: Union[str, os.PathLike[str]],
+    time_col: str = ...,
+    lp_col: str = ...,
+    mu_col: str = ...,
+    normal_col: Optional[str] = ...,
+) -> dict[str, npt.NDArray[np.float64]]: ...
+def fit(
+    record: Optional[Mapping[str, Any]] = ...,
+    *,
+    stiffness: float,
+    law: str = ...,
+    laws: Optional[Sequence[str]] = ...,
+    loading: str = ...,
+    fit_stiffness: bool = ...,
+    fit_slip_trend: bool = ...,
+    fit_alpha: Optional[str] = ...,
+    normal_stress_mode: str = ...,
+    fix: Sequence[str] = ...,
+    initial: Optional[Mapping[str, float]] = ...,
+    rtol: float = ...,
+    starts: int = ...,
+    mcmc: Optional[int] = ...,
+    chains: int = ...,
+    seed: int = ...,
+    progress: bool = ...,
+    time: Optional[npt.ArrayLike] = ...,
+    load_point: Optional[npt.ArrayLike] = ...,
+    mu: Optional[npt.ArrayLike] = ...,
+    normal_stress: Optional[npt.ArrayLike] = ...,
+) -> FitResult: ...
+def diagnose(
+    record: Optional[Mapping[str, Any]] = ...,
+    *,
+    stiffness: float,
+    baseline: str = ...,
+    loading: str = ...,
+    seed: int = ...,
+    threads: int = ...,
+    normal_stress_mode: str = ...,
+    report: Optional[Union[str, os.PathLike[str]]] = ...,
+    name: str = ...,
+    progress: bool = ...,
+    time: Optional[npt.ArrayLike] = ...,
+    load_point: Optional[npt.ArrayLike] = ...,
+    mu: Optional[npt.ArrayLike] = ...,
+    normal_stress: Optional[npt.ArrayLike] = ...,
+) -> Diagnosis: ...
