@@ -121,7 +121,8 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
-    fix=vec![], initial=vec![], rtol=1e-7, starts=5, mcmc=None, chains=4, seed=1, progress=false))]
+    fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
+    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -145,6 +146,10 @@ pub fn fit_json(
     chains: usize,
     seed: u64,
     progress: bool,
+    window_um: Option<f64>,
+    mu0_per_segment: bool,
+    weights: &str,
+    per_segment: bool,
 ) -> PyResult<FitOut> {
     let rec = record(time, load_point, mu, normal_stress)?;
     let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
@@ -170,6 +175,18 @@ pub fn fit_json(
     }
     opts.rtol = rtol;
     opts.starts = starts.max(1);
+    if let Some(w) = window_um {
+        if !(w > 0.0 && w.is_finite()) {
+            return Err(value_error(format!("window_um {w} must be positive (µm)")));
+        }
+    }
+    opts.window_um = window_um;
+    opts.mu0_per_segment = mu0_per_segment;
+    opts.weighting = match weights {
+        "equal" => rsf_fit::fit::Weighting::EqualSegments,
+        "uniform" => rsf_fit::fit::Weighting::Uniform,
+        other => return Err(value_error(format!("weights `{other}`: use equal or uniform"))),
+    };
     let cancel = Arc::new(AtomicBool::new(false));
     opts.cancel = Some(cancel.clone());
     let out = interruptible(py, &cancel, || -> Result<_, String> {
@@ -189,11 +206,16 @@ pub fn fit_json(
                 Some(rsf_fit::mcmc::run(&prep, &opts, &res, &m)?)
             }
         };
-        Ok((res, mc))
+        // the refits of `rsf fit --per-segment`: each step and hold alone
+        let per = if per_segment { rsf_fit::diagnose::per_event_fits(&prep, &opts, &res, 0) } else { vec![] };
+        Ok((res, mc, per))
     })?
     .map_err(value_error)?;
-    let (res, mc) = out;
+    let (res, mc, per) = out;
     let mut json = serde_json::to_value(&res).map_err(value_error)?;
+    if per_segment {
+        json["per_segment"] = serde_json::to_value(&per).map_err(value_error)?;
+    }
     let (samples, names) = match mc {
         Some(m) => {
             json["mcmc"] = serde_json::to_value(&m).map_err(value_error)?;

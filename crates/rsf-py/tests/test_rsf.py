@@ -287,3 +287,18 @@ def test_ctrl_c_stops_a_diagnosis():
     timer.cancel()
     assert full.cause == "slip_trend"
     assert t_stop < 0.3 + 0.5 * t_full, f"stopped after {t_stop:.2f} s (a full run takes {t_full:.2f} s)"
+
+
+def test_per_segment_refits_and_options_equal_the_cli():
+    rec = rsf.read_record(BASALT, **COLS)
+    py = rsf.fit(rec, law="slip", stiffness=0.0151, per_segment=True, window_um=40.0, weights="uniform")
+    with tempfile.TemporaryDirectory() as d:
+        j = os.path.join(d, "f.json")
+        cli("fit", BASALT, *CLI_COLS, "--law", "slip", "--stiffness", "0.0151", "--loading", "protocol",
+            "--per-segment", "--window-um", "40", "--weights", "uniform", "--json", j)
+        ref = json.load(open(j))
+    assert py.params["a"] == pytest.approx(ref["params"]["a"], rel=1e-9)
+    assert len(py.per_segment) == len(ref["per_segment"]) >= 1
+    assert py.per_segment[0]["dc"] == pytest.approx(ref["per_segment"][0]["dc"], rel=1e-9)
+    with pytest.raises(ValueError, match="weights"):
+        rsf.fit(rec, stiffness=0.0151, weights="heavy")
