@@ -118,6 +118,16 @@ fn simulate_toml<'py>(
     match (time, load_point) {
         (None, None) => {}
         (Some(t), Some(x)) => {
+            let changes_sigma = match &p.problem.loading {
+                rsf_core::Loading::Segments(segs) => segs.iter().any(|s| s.changes_normal_stress()),
+                rsf_core::Loading::Record(_) => p.problem.normal_stress.is_some(),
+            };
+            if changes_sigma {
+                return Err(value_error(
+                    "the protocol changes the normal stress along its own loading; a measured load point \
+                     cannot replace that loading (give the normal stress in a record instead)",
+                ));
+            }
             let rec = rsf_core::LoadRecord { time: t.as_slice()?.to_vec(), load_point: x.as_slice()?.to_vec() };
             rec.validate().map_err(|e| value_error(format!("load-point arrays: {e}")))?;
             p.problem.output = rsf_solvers::OutputTimes::Times(rec.time.clone());

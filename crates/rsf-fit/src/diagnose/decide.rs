@@ -15,7 +15,7 @@ const HELDOUT_TOLERANCE: f64 = 1.05;
 /// constrain it: e.g. a second state turned into a linear trend), or its gain is not rare
 /// under the baseline and the record's own noise.
 pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
-    if !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
+    if !c.heldout_uninformative && !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
         Some(match c.heldout_rms_after {
             Some(_) => format!("{} predicted the held-out part worse", c.cause),
             None => format!("{} could not be fitted to the held-out training part", c.cause),
@@ -34,7 +34,9 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
 
 /// The held-out test passes when the extension predicts no more than 5% worse; it fails when
 /// the extension's training fit fails where the baseline's did not (an extension the training
-/// part cannot pin down is the overfitting the test is there to catch).
+/// part cannot pin down is the overfitting the test is there to catch). A candidate whose
+/// training part is blind to its effect by construction (`Candidate::heldout_uninformative`)
+/// is not judged by it.
 pub(super) fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
     match (before, after) {
         (Some(b), Some(a)) => a <= HELDOUT_TOLERANCE * b,

@@ -56,6 +56,18 @@ pub struct Candidate {
     pub heldout_rms_before: Option<f64>,
     /// Held-out rms of the extension.
     pub heldout_rms_after: Option<f64>,
+    /// ΔBIC of the extension over the baseline on the held-out test's training part alone:
+    /// not decisive means the training part holds no evidence of the effect (e.g. a cut-off
+    /// that only the last, longest hold reaches), and the held-out prediction then tests an
+    /// unconstrained parameter, not overfitting.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub heldout_training_gain: Option<f64>,
+    /// The held-out test cannot judge this candidate: its training part is blind to the effect
+    /// by construction (a cut-off whose fitted Vc lies far below every slip rate of the training
+    /// part) and shows no decisive gain, while the full record shows ten times the decisive
+    /// gain. Its worse prediction then does not set it aside.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub heldout_uninformative: bool,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: BTreeMap<String, serde_json::Value>,
     /// Integrator steps of the candidate's fits (its work; deterministic, unlike wall time).

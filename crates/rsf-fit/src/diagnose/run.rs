@@ -16,6 +16,16 @@ use crate::data::{Record, isolated_spikes};
 use crate::fit::{Budget, FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
 use crate::segment::{Segment, SegmentOptions, detect};
 
+/// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
+/// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
+const TRAINING_BLIND_FACTOR: f64 = 10.0;
+
+/// A candidate the held-out test cannot judge must earn ten times the decisive ΔBIC instead:
+/// one check fewer, more evidence. (The detection study's record 55, plain friction with AR(1)
+/// noise, spikes and encoder noise, scores a spurious cut-off of ΔBIC −34 that only the
+/// held-out test caught; record 82's real cut-off scores −4006.)
+const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
+
 /// A candidate's held-out training fit may do this many times the work of its fit on the whole
 /// record, and at least `HELDOUT_MIN_STEPS` integrator steps.
 const HELDOUT_WORK_FACTOR: f64 = 5.0;
@@ -115,6 +125,22 @@ impl Ctx<'_> {
             .min_by(|a, b| scores(base, &a.3, n_eff).0.total_cmp(&scores(base, &b.3, n_eff).0))
     }
 
+    /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
+    /// acts through e^(−V/Vc), which is below e^(−10) wherever V > 10 Vc; when every modelled
+    /// slip rate of the training part stays above that and the training fit gained nothing
+    /// decisive, the training part holds no evidence of Vc by construction.
+    fn training_blind(&self, cause: Cause, f: &FitResult, training_gain: Option<f64>) -> bool {
+        if cause != Cause::CutoffVelocity || !training_gain.is_some_and(|g| !(g < DECISIVE)) {
+            return false;
+        }
+        let (Some((_, ft_base)), Some(vc)) = (&self.ho_base, f.params.law_params.get("vc1")) else {
+            return false;
+        };
+        let v = &ft_base.curve.slip_rate;
+        let v_min = v.iter().copied().fold(f64::INFINITY, f64::min);
+        !v.is_empty() && v_min > TRAINING_BLIND_FACTOR * vc
+    }
+
     fn candidate(&self, cause: Cause) -> Option<Candidate> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
         let threads = self.opts.threads;
@@ -139,6 +165,14 @@ impl Ctx<'_> {
         };
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
+        // the extension's gain on the training part alone (n_eff scaled to that part)
+        let training_gain = match (&self.ho_base, &ho) {
+            (Some((_, ft_base)), Some((_, ft))) => {
+                let n_eff = self.ev.n_effective * ft_base.n as f64 / self.base.n as f64;
+                Some(scores(ft_base, ft, n_eff).0)
+            }
+            _ => None,
+        };
         Some(Candidate {
             cause,
             extension,
@@ -147,6 +181,8 @@ impl Ctx<'_> {
             rms_ratio: f.rms / self.base.rms,
             heldout_rms_before: self.ho_base.as_ref().map(|h| h.0),
             heldout_rms_after: ho.as_ref().map(|h| h.0),
+            heldout_training_gain: training_gain,
+            heldout_uninformative: dbic < BLIND_DECISIVE && self.training_blind(cause, &f, training_gain),
             effect: effect_of(&[cause], &f),
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
