@@ -218,6 +218,29 @@ mod tests {
         base.with_parameter_vector(p).unwrap()
     }
 
+    /// The largest error of ∂mu/∂p_j from `s` against central differences of tight solves of
+    /// `mk(model)`, relative to the column's largest value, for the parameters `js`.
+    fn worst_errors(base: &Model, mk: &dyn Fn(Model) -> Problem, s: &SensSolution, js: &[usize]) -> Vec<(usize, f64)> {
+        let p = params(base);
+        let np = s.n_params;
+        js.iter()
+            .filter(|&&j| p[j] != 0.0)
+            .map(|&j| {
+                let h = 1e-5 * p[j].abs();
+                let (mut pp, mut pm) = (p.clone(), p.clone());
+                pp[j] += h;
+                pm[j] -= h;
+                let fp = rsf_solvers::solve(&mk(rebuild(base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
+                let fm = rsf_solvers::solve(&mk(rebuild(base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
+                let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
+                let worst = (0..s.mu.len())
+                    .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
+                    .fold(0.0, f64::max);
+                (j, worst)
+            })
+            .collect()
+    }
+
     /// ∂mu/∂p from the sensitivity equations agrees with central differences of tight
     /// solves, for 1, 2 and 3 states (mixed laws, a law parameter) over a step–hold protocol.
     #[test]
@@ -245,24 +268,8 @@ mod tests {
             ];
             let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
             let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
-            let p = params(&base);
-            let np = s.n_params;
-            for j in 0..np {
-                if p[j] == 0.0 {
-                    continue;
-                }
-                let h = 1e-5 * p[j].abs();
-                let (mut pp, mut pm) = (p.clone(), p.clone());
-                pp[j] += h;
-                pm[j] -= h;
-                let fp = rsf_solvers::solve(&mk(rebuild(&base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-                let fm = rsf_solvers::solve(&mk(rebuild(&base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-                let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
-                let mut worst: f64 = 0.0;
-                for r in 0..s.mu.len() {
-                    let fd = (fp.mu[r] - fm.mu[r]) / (2.0 * h);
-                    worst = worst.max((fd - s.dmu[r * np + j]).abs() / scale);
-                }
+            let all: Vec<usize> = (0..s.n_params).collect();
+            for (j, worst) in worst_errors(&base, &mk, &s, &all) {
                 assert!(worst < 2e-4, "N = {}, parameter {j}: max rel error {worst:e}", base.n_states());
             }
         }
@@ -294,22 +301,9 @@ mod tests {
             p
         };
         let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
-        let p = params(&base);
         let np = s.n_params;
-        for j in 0..np {
-            if p[j] == 0.0 {
-                continue;
-            }
-            let h = 1e-5 * p[j].abs();
-            let (mut pp, mut pm) = (p.clone(), p.clone());
-            pp[j] += h;
-            pm[j] -= h;
-            let fp = rsf_solvers::solve(&mk(rebuild(&base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-            let fm = rsf_solvers::solve(&mk(rebuild(&base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-            let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
-            let worst = (0..s.mu.len())
-                .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
-                .fold(0.0, f64::max);
+        let all: Vec<usize> = (0..np).collect();
+        for (j, worst) in worst_errors(&base, &mk, &s, &all) {
             assert!(worst < 2e-4, "parameter {j}: max rel error {worst:e}");
         }
         // α matters: its column is far from zero
@@ -330,19 +324,7 @@ mod tests {
             p
         };
         let s = solve_with_sensitivities(&mk(base.clone()), 1e-7, 1e-11, crate::fit::FIT_MAX_STEPS).unwrap();
-        let np = s.n_params;
-        for j in [1usize, 2, 4, 5] {
-            let p = params(&base);
-            let h = 1e-5 * p[j];
-            let (mut pp, mut pm) = (p.clone(), p.clone());
-            pp[j] += h;
-            pm[j] -= h;
-            let fp = rsf_solvers::solve(&mk(rebuild(&base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-            let fm = rsf_solvers::solve(&mk(rebuild(&base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-            let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
-            let worst = (0..s.mu.len())
-                .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
-                .fold(0.0, f64::max);
+        for (j, worst) in worst_errors(&base, &mk, &s, &[1, 2, 4, 5]) {
             assert!(worst < 1e-3, "parameter {j}: max rel error {worst:e}");
         }
     }

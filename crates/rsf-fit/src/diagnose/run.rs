@@ -130,7 +130,7 @@ impl Ctx<'_> {
     /// slip rate of the training part stays above that and the training fit gained nothing
     /// decisive, the training part holds no evidence of Vc by construction.
     fn training_blind(&self, cause: Cause, f: &FitResult, training_gain: Option<f64>) -> bool {
-        if cause != Cause::CutoffVelocity || !training_gain.is_some_and(|g| !(g < DECISIVE)) {
+        if cause != Cause::CutoffVelocity || training_gain.is_none_or(|g| g < DECISIVE) {
             return false;
         }
         let (Some((_, ft_base)), Some(vc)) = (&self.ho_base, f.params.law_params.get("vc1")) else {
