@@ -311,12 +311,15 @@ impl Loading {
                             i + 1
                         ));
                     }
-                    out.push(Piece { sigma0: sigma, sigma_rate: rate, ..constant(t, t + d, lp, s.v) });
+                    let piece = Piece { sigma0: sigma, sigma_rate: rate, ..constant(t, t + d, lp, s.v) };
+                    if rate != 0.0 {
+                        // the next piece starts where this one ends, as the solvers compute it
+                        // ((t + d) − t may differ from d in the last bit): no spurious step
+                        sigma = piece.sigma_end();
+                    }
+                    out.push(piece);
                     t += d;
                     lp += s.v * d;
-                    if rate != 0.0 {
-                        sigma = end;
-                    }
                 }
                 Ok(out)
             }
@@ -444,6 +447,11 @@ mod tests {
         assert_eq!(p[2].sigma_end(), 14.0);
         assert!(normal_stress_varies(&p));
         assert!(!normal_stress_varies(&Loading::Segments(vec![Segment::for_duration(1.0, 1.0)]).pieces(3.0).unwrap()));
+        // ramps at awkward times continue exactly: a step appears only where one is written
+        let segs: Vec<Segment> =
+            (0..50).map(|i| Segment::for_duration(1.0, 0.1 + 0.013 * i as f64).with_normal_stress_rate(0.37)).collect();
+        let p = Loading::Segments(segs).pieces(10.0).unwrap();
+        assert!(p.windows(2).all(|w| w[1].sigma0 == w[0].sigma_end()));
     }
 
     #[test]
