@@ -254,3 +254,59 @@ fn p446_alpha_is_resolved_from_the_recorded_normal_stress() {
     assert!(ci[1] - ci[0] < 0.5 * alpha, "α not resolved: {ci:?}");
     assert!(with.bic < base.bic - 1000.0, "ΔBIC {}", with.bic - base.bic);
 }
+
+/// A protocol driven by a measured record with a normal-stress column gives what the same
+/// history written as segments gives (σ ramps on the record's grid are reproduced exactly by its
+/// piecewise-linear interpolation); σ_ref defaults to the record's first normal stress.
+#[test]
+fn a_record_with_a_normal_stress_column_equals_its_segments() {
+    let dir = std::env::temp_dir().join(format!("rsf_ns_record_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // 1 µm/s throughout; σ 10 → 13 MPa over 100–102 s, back to 10 over 300–304 s
+    let sigma = |t: f64| {
+        if t <= 100.0 {
+            10.0
+        } else if t <= 102.0 {
+            10.0 + 1.5 * (t - 100.0)
+        } else if t <= 300.0 {
+            13.0
+        } else if t <= 304.0 {
+            13.0 - 0.75 * (t - 300.0)
+        } else {
+            10.0
+        }
+    };
+    let mut csv = String::from("time_s,load_point_um,sn\n");
+    for i in 0..=900 {
+        let t = i as f64 * 0.5;
+        csv += &format!("{t},{t},{}\n", sigma(t));
+    }
+    std::fs::write(dir.join("run.csv"), csv).unwrap();
+    let model = "[model]\nmu0 = 0.6\nv0 = 1.0\na = 0.01\nstiffness = 0.01\nnormal_stress = 10.0\n\
+                 [[model.state]]\nlaw = \"slip\"\nb = 0.012\ndc = 10.0\nalpha = 0.3\n";
+    let rec_toml = format!(
+        "{model}[loading]\nv_init = 1.0\nrecord = \"run.csv\"\nnormal_stress_column = \"sn\"\n[solver]\nrtol = 1e-11\n"
+    );
+    let seg_toml = format!(
+        "{model}[loading]\nv_init = 1.0\n\
+         [[loading.segment]]\nv = 1.0\nduration = 100.0\n\
+         [[loading.segment]]\nv = 1.0\nduration = 2.0\nnormal_stress_rate = 1.5\n\
+         [[loading.segment]]\nv = 1.0\nduration = 198.0\n\
+         [[loading.segment]]\nv = 1.0\nduration = 4.0\nnormal_stress_rate = -0.75\n\
+         [[loading.segment]]\nv = 1.0\nduration = 146.0\n\
+         [output]\ndt = 0.5\n[solver]\nrtol = 1e-11\n"
+    );
+    let from_record = protocol::parse(&rec_toml, Some(&dir), "record.toml").unwrap();
+    let from_segments = protocol::parse(&seg_toml, None, "segments.toml").unwrap();
+    let a = from_record.method.solve(&from_record.problem).unwrap();
+    let b = from_segments.method.solve(&from_segments.problem).unwrap();
+    assert_eq!(a.len(), b.len());
+    let worst = a.mu.iter().zip(&b.mu).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    let dsig = a.normal_stress.iter().zip(&b.normal_stress).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    println!("record vs segments: max |Δμ| {worst:.1e}, max |Δσ| {dsig:.1e}");
+    assert!(worst < 1e-9 && dsig < 1e-12, "{worst:e} {dsig:e}");
+    // without [model] normal_stress, σ_ref is the record's first σ (10 MPa here): the same
+    let no_ref = protocol::parse(&rec_toml.replace("normal_stress = 10.0\n", ""), Some(&dir), "r.toml").unwrap();
+    assert_eq!(no_ref.problem.model.normal_stress, Some(10.0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
