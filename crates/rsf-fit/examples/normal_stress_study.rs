@@ -10,11 +10,10 @@
 //! ```
 
 use rsf_fit::data::{ReadOptions, read_record};
-use rsf_fit::diagnose::{DiagnoseOptions, diagnose};
+use rsf_fit::diagnose::{DiagnoseOptions, diagnose, par_map};
 use rsf_fit::fit::{AlphaFit, FitOptions, LoadingMode, fit, prepare};
 use rsf_fit::segment::{SegmentOptions, detect};
 use serde_json::{Value, json};
-use std::sync::Mutex;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -24,22 +23,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         args.iter().position(|a| a == "--jobs").and_then(|i| args.get(i + 1)).map_or(Ok(2), |j| j.parse())?;
     let with_diagnosis = !args.iter().any(|a| a == "--no-diagnose");
     let truth: Vec<Value> = serde_json::from_str(&std::fs::read_to_string(dir.join("truth.json"))?)?;
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let results: Mutex<Vec<Value>> = Mutex::new(vec![]);
-    std::thread::scope(|sc| {
-        for _ in 0..jobs.max(1) {
-            sc.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(m) = truth.get(i) else { break };
-                    let r = run(&dir, m, with_diagnosis).unwrap_or_else(|e| json!({"file": m["file"], "error": e}));
-                    eprintln!("{r}");
-                    results.lock().unwrap_or_else(|e| e.into_inner()).push(r);
-                }
-            });
-        }
+    // records in parallel (one diagnosis thread each), results in file order
+    let mut results = par_map(&truth, jobs.max(1), |m| {
+        let r = run(&dir, m, with_diagnosis).unwrap_or_else(|e| json!({"file": m["file"], "error": e}));
+        eprintln!("{r}");
+        r
     });
-    let mut results = results.into_inner().unwrap_or_else(|e| e.into_inner());
     results.sort_by(|a, b| a["file"].as_str().cmp(&b["file"].as_str()));
     println!("| record | α true | α fitted (95% CI) | a err | b err | Dc err | cause | ΔBIC | s |");
     println!("|---|---|---|---|---|---|---|---|---|");

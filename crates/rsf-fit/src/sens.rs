@@ -92,25 +92,26 @@ pub fn solve_with_sensitivities(
     atol: f64,
     max_steps: u64,
 ) -> Result<SensSolution, SolveError> {
-    let alpha = rsf_core::normal_stress_varies(&problem.pieces()?);
+    let pieces = problem.pieces()?;
+    let alpha = rsf_core::normal_stress_varies(&pieces);
     match problem.model.n_states() {
         // <D, active P, full P, D (1 + P)>: α columns active only when σ varies
-        1 if alpha => run::<3, 8, 8, 27>(problem, rtol, atol, max_steps),
-        1 => run::<3, 7, 8, 24>(problem, rtol, atol, max_steps),
-        2 if alpha => run::<4, 12, 12, 52>(problem, rtol, atol, max_steps),
-        2 => run::<4, 10, 12, 44>(problem, rtol, atol, max_steps),
-        3 if alpha => run::<5, 16, 16, 85>(problem, rtol, atol, max_steps),
-        3 => run::<5, 13, 16, 70>(problem, rtol, atol, max_steps),
-        4 if alpha => run::<6, 20, 20, 126>(problem, rtol, atol, max_steps),
-        4 => run::<6, 16, 20, 102>(problem, rtol, atol, max_steps),
-        5 if alpha => run::<7, 24, 24, 175>(problem, rtol, atol, max_steps),
-        5 => run::<7, 19, 24, 140>(problem, rtol, atol, max_steps),
-        6 if alpha => run::<8, 28, 28, 232>(problem, rtol, atol, max_steps),
-        6 => run::<8, 22, 28, 184>(problem, rtol, atol, max_steps),
-        7 if alpha => run::<9, 32, 32, 297>(problem, rtol, atol, max_steps),
-        7 => run::<9, 25, 32, 234>(problem, rtol, atol, max_steps),
-        8 if alpha => run::<10, 36, 36, 370>(problem, rtol, atol, max_steps),
-        8 => run::<10, 28, 36, 290>(problem, rtol, atol, max_steps),
+        1 if alpha => run::<3, 8, 8, 27>(problem, &pieces, rtol, atol, max_steps),
+        1 => run::<3, 7, 8, 24>(problem, &pieces, rtol, atol, max_steps),
+        2 if alpha => run::<4, 12, 12, 52>(problem, &pieces, rtol, atol, max_steps),
+        2 => run::<4, 10, 12, 44>(problem, &pieces, rtol, atol, max_steps),
+        3 if alpha => run::<5, 16, 16, 85>(problem, &pieces, rtol, atol, max_steps),
+        3 => run::<5, 13, 16, 70>(problem, &pieces, rtol, atol, max_steps),
+        4 if alpha => run::<6, 20, 20, 126>(problem, &pieces, rtol, atol, max_steps),
+        4 => run::<6, 16, 20, 102>(problem, &pieces, rtol, atol, max_steps),
+        5 if alpha => run::<7, 24, 24, 175>(problem, &pieces, rtol, atol, max_steps),
+        5 => run::<7, 19, 24, 140>(problem, &pieces, rtol, atol, max_steps),
+        6 if alpha => run::<8, 28, 28, 232>(problem, &pieces, rtol, atol, max_steps),
+        6 => run::<8, 22, 28, 184>(problem, &pieces, rtol, atol, max_steps),
+        7 if alpha => run::<9, 32, 32, 297>(problem, &pieces, rtol, atol, max_steps),
+        7 => run::<9, 25, 32, 234>(problem, &pieces, rtol, atol, max_steps),
+        8 if alpha => run::<10, 36, 36, 370>(problem, &pieces, rtol, atol, max_steps),
+        8 => run::<10, 28, 36, 290>(problem, &pieces, rtol, atol, max_steps),
         n => Err(SolveError::Input(format!(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
         ))),
@@ -119,6 +120,7 @@ pub fn solve_with_sensitivities(
 
 fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     problem: &Problem,
+    pieces: &[rsf_core::Piece],
     rtol: f64,
     atol: f64,
     max_steps: u64,
@@ -138,7 +140,6 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     }
     debug_assert_eq!(k, P);
     model.validate()?;
-    let pieces = problem.pieces()?;
     if let Some(w) = pieces.windows(2).find(|w| w[1].sigma0 != w[0].sigma_end()) {
         // the step map's own derivatives are not carried; a measured σ is continuous anyway
         return Err(SolveError::Input(format!(
@@ -147,7 +148,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
             w[1].t0
         )));
     }
-    let t_out = rsf_solvers::output_times(problem, &pieces)?;
+    let t_out = rsf_solvers::output_times(problem, pieces)?;
     let y0 = SpringSlider::steady_state(model, problem.v_init)?;
     // sensitivity support (classic form, finite k, law parameters settable) at the start
     let probe = SpringSlider::for_piece(model, &pieces[0]);
@@ -179,7 +180,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     let mut stats = StepStats::default();
     drive(
         model,
-        &pieces,
+        pieces,
         &t_out,
         ya,
         &alg,

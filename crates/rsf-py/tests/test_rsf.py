@@ -25,14 +25,19 @@ def cli(*args):
     return subprocess.run([CLI, *args], check=True, capture_output=True, text=True)
 
 
-def test_simulate_equals_the_cli():
-    path = os.path.join(ROOT, "examples", "step_down.toml")
-    out = rsf.simulate(path)
+def cli_simulate(path):
+    """The rows of `rsf simulate PATH` as dicts of strings."""
     with tempfile.TemporaryDirectory() as d:
         csv_path = os.path.join(d, "s.csv")
         cli("simulate", path, "-o", csv_path)
         with open(csv_path) as f:
-            rows = list(csv.DictReader(f))
+            return list(csv.DictReader(f))
+
+
+def test_simulate_equals_the_cli():
+    path = os.path.join(ROOT, "examples", "step_down.toml")
+    out = rsf.simulate(path)
+    rows = cli_simulate(path)
     assert len(rows) == len(out["time_s"])
     for key in ["time_s", "load_point_um", "mu", "slip_rate_um_s", "slip_um"]:
         col = np.array([float(r[key]) for r in rows])
@@ -147,11 +152,7 @@ def test_bad_arrays_are_refused_with_a_message():
 def test_normal_stress_simulate_and_alpha_fit_equal_the_cli():
     path = os.path.join(ROOT, "examples", "normal_stress_steps.toml")
     out = rsf.simulate(path)
-    with tempfile.TemporaryDirectory() as d:
-        csv_path = os.path.join(d, "s.csv")
-        cli("simulate", path, "-o", csv_path)
-        with open(csv_path) as f:
-            rows = list(csv.DictReader(f))
+    rows = cli_simulate(path)
     sn = np.array([float(r["normal_stress_mpa"]) for r in rows])
     assert np.array_equal(sn, out["normal_stress_mpa"])
     mu = np.array([float(r["mu"]) for r in rows])
@@ -179,11 +180,7 @@ def test_objects_and_load_protocol_equal_the_cli():
         setup = rsf.load_protocol(path)
         assert isinstance(setup.model, rsf.Model) and isinstance(setup.model.states[0], rsf.State)
         out = rsf.simulate(setup)
-        with tempfile.TemporaryDirectory() as d:
-            csv_path = os.path.join(d, "s.csv")
-            cli("simulate", path, "-o", csv_path)
-            with open(csv_path) as f:
-                rows = list(csv.DictReader(f))
+        rows = cli_simulate(path)
         mu = np.array([float(r["mu"]) for r in rows])
         assert np.array_equal(mu, out.mu), name  # the same problem, bit for bit
     # built from objects: the same numbers as the file

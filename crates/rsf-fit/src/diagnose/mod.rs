@@ -54,6 +54,7 @@ mod timing;
 pub use cause::{Cause, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
+pub use parallel::par_map;
 pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,

@@ -2,7 +2,7 @@
 //! the same for any number of threads.
 
 /// Maps `f` over `items` on `threads` threads (0: all cores), keeping order.
-pub(super) fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+pub fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     let threads = if threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { threads };
     let threads = threads.min(items.len()).max(1);
     if threads == 1 {
