@@ -134,7 +134,7 @@ enum Command {
         /// Also write an SVG plot of friction and slip rate against time.
         #[arg(long)]
         plot: Option<PathBuf>,
-        /// Override the protocol's solver method: auto (Tsit5 while non-stiff, Rodas5P where stiff), tsit5, dopri5, rodas5p or rodas4 ("explicit" = tsit5, "implicit" = rodas5p).
+        /// Override the protocol's solver method: auto (Vern6 while non-stiff, Rodas5P where stiff), vern6, tsit5, dopri5, rodas5p or rodas4 ("explicit" = tsit5, "implicit" = rodas5p).
         #[arg(long)]
         method: Option<String>,
         /// Override the protocol's relative tolerance (solver.rtol).
@@ -320,7 +320,7 @@ dt = 0.02           # s; optional for a record (default: the record's own times)
 # event_slip_rate = 1e3   # µm/s: catalogue events with V above it into OUT_events.csv
 
 [solver]
-method = \"auto\"     # \"auto\" (Tsit5, switching to Rodas5P where stiff) | \"tsit5\" | \"dopri5\" | \"rodas5p\" | \"rodas4\"
+method = \"auto\"     # \"auto\" (Vern6, switching to Rodas5P where stiff) | \"vern6\" | \"tsit5\" | \"dopri5\" | \"rodas5p\" | \"rodas4\"
 rtol = 1e-9         # relative error per step in V and theta
 atol = 1e-12        # absolute error in slip, µm
 max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error

@@ -96,7 +96,7 @@ pub fn state_rate_ln<L: StateLaw>(law: &L, x: f64, z: f64, dc: f64, b: f64) -> S
 /// integrators that need no partials.
 #[inline]
 pub fn ln_theta_rate<L: StateLaw>(law: &L, x: f64, z: f64, dc: f64, b: f64) -> f64 {
-    law.ln_theta_rate(x, z, dc, b)
+    law.ln_theta_rate(&crate::LnArgs::new(x, z, dc, b))
 }
 
 /// The outcome of [`solve_slip_rate`].

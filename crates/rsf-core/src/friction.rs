@@ -66,6 +66,7 @@ impl FrictionForm {
         }
     }
 
+    #[inline]
     pub(crate) fn eval(self, mu0: f64, a: f64, v0: f64, x: f64, psi: f64) -> FrictionEval {
         match self {
             Self::Classic => FrictionEval { f_x: a, f_psi: 1.0, d_fx_dl: 0.0, d_fpsi_dl: 0.0 },

@@ -46,6 +46,51 @@ impl StateArgs<f64> {
     }
 }
 
+/// What a law's log-form rate [`StateLaw::ln_theta_rate`] may depend on: the integrators'
+/// own variables x = ln V and z = ln θ, with V and ln Dc already at hand (the caller has
+/// computed them once for all states and steps), and the rest of [`StateArgs`].
+#[derive(Clone, Copy, Debug)]
+pub struct LnArgs {
+    /// x = ln V (V in µm/s).
+    pub x: f64,
+    /// V = e^x, µm/s.
+    pub v: f64,
+    /// z = ln θ (θ in s).
+    pub z: f64,
+    /// Dc, µm.
+    pub dc: f64,
+    /// ln Dc.
+    pub ln_dc: f64,
+    /// b (dimensionless).
+    pub b: f64,
+    /// As [`StateArgs::stress_rate`], 1/s.
+    pub stress_rate: f64,
+    /// As [`StateArgs::normal_stress`], MPa.
+    pub normal_stress: f64,
+    /// As [`StateArgs::normal_stress_rate`], MPa/s.
+    pub normal_stress_rate: f64,
+}
+
+impl LnArgs {
+    /// Arguments at x = ln V, z = ln θ with zero stress rate at unit normal stress.
+    pub fn new(x: f64, z: f64, dc: f64, b: f64) -> Self {
+        Self { x, v: x.exp(), z, dc, ln_dc: dc.ln(), b, stress_rate: 0.0, normal_stress: 1.0, normal_stress_rate: 0.0 }
+    }
+
+    /// The same point in the plain variables (θ = e^z).
+    pub fn state_args(&self) -> StateArgs<f64> {
+        StateArgs {
+            v: self.v,
+            theta: self.z.exp(),
+            dc: self.dc,
+            b: self.b,
+            stress_rate: self.stress_rate,
+            normal_stress: self.normal_stress,
+            normal_stress_rate: self.normal_stress_rate,
+        }
+    }
+}
+
 /// The value of dθ/dt and its exact partial derivatives at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Jet {
@@ -126,13 +171,14 @@ pub trait StateLaw: Debug + Clone + Send + Sync + 'static {
         1.0
     }
 
-    /// d(ln θ)/dt = G/θ at `x = ln V`, `z = ln θ` (the log form of rsf's integrators and of
-    /// the per-element kernels). The default evaluates [`theta_rate`](StateLaw::theta_rate)
-    /// at e^x, e^z; a law overrides it where the log form saves transcendental calls (the
-    /// Slip law: one exponential instead of two and a logarithm).
-    fn ln_theta_rate(&self, x: f64, z: f64, dc: f64, b: f64) -> f64 {
-        let theta = z.exp();
-        self.theta_rate(&StateArgs::new(x.exp(), theta, dc, b)) / theta
+    /// d(ln θ)/dt = G/θ in the log variables of rsf's integrators and per-element kernels.
+    /// The default evaluates [`theta_rate`](StateLaw::theta_rate) at θ = e^z; a law
+    /// overrides it where the log form saves transcendental calls, which dominate the cost of
+    /// a right-hand side (the Slip law: none instead of an exponential and a logarithm). An
+    /// override must equal the default to rounding; rsf-laws tests each one.
+    fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
+        let p = s.state_args();
+        self.theta_rate(&p) / p.theta
     }
 
     /// Exact value and partial derivatives of dθ/dt (forward-mode dual numbers over
@@ -226,6 +272,8 @@ fn steady_state_by_newton(jet: impl Fn(f64) -> Jet, v: f64, dc: f64) -> Result<f
 pub trait DynStateLaw: Debug + Send + Sync {
     /// dθ/dt at f64 (see [`StateLaw::theta_rate`]).
     fn rate(&self, s: &StateArgs<f64>) -> f64;
+    /// See [`StateLaw::ln_theta_rate`].
+    fn ln_rate(&self, s: &LnArgs) -> f64;
     /// See [`StateLaw::jet`].
     fn jet(&self, s: &StateArgs<f64>) -> Jet;
     /// See [`StateLaw::steady_state_theta`].
@@ -247,6 +295,10 @@ impl<L: StateLaw> DynStateLaw for L {
     #[inline]
     fn rate(&self, s: &StateArgs<f64>) -> f64 {
         self.theta_rate(s)
+    }
+    #[inline]
+    fn ln_rate(&self, s: &LnArgs) -> f64 {
+        self.ln_theta_rate(s)
     }
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
         StateLaw::jet(self, s)

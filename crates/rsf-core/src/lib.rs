@@ -53,7 +53,7 @@ pub mod nondim;
 mod system;
 
 pub use friction::FrictionForm;
-pub use law::{DynStateLaw, Jet, Real, StateArgs, StateLaw};
+pub use law::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, NormalStressRecord, Piece, Segment, SegmentEnd, normal_stress_varies};
 pub use model::{Model, ModelError, StateVariable};
 pub use system::{N_GLOBAL, PER_STATE, SpringSlider, n_params, param_index, state_offset};

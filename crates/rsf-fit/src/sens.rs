@@ -5,12 +5,16 @@
 //! [`rsf_core::n_params`]): dS/dt = J S + ∂f/∂p, S(0) = ∂y0/∂p. J and ∂f/∂p are exact
 //! (`SpringSlider::jacobian`, `SpringSlider::parameter_jacobian`), so the derivatives are those of
 //! the model, not finite differences of a tolerance-limited solution. The augmented system is
-//! integrated by the same Dormand–Prince method with error control on y and, more loosely
-//! (10 rtol, relative with a floor of 1), on S; dense output gives both at the sample times.
+//! integrated with the automatic stiffness switching of the forward solver's default method,
+//! as [`AutoDopri5`] (Dopri5 while non-stiff: fits sample the model at every data point, where
+//! its free interpolant beats Vern6's extra stage; Rodas5P where stiff, with the augmented
+//! Jacobian below), with error control on y and, more
+//! loosely (10 rtol, relative with a floor of 1), on S; dense output gives both at the sample
+//! times.
 
 use nalgebra::{SMatrix, SVector};
 use rsf_core::{N_GLOBAL, PER_STATE, SpringSlider, n_params};
-use rsf_solvers::{Dopri5, OdeSystem, Problem, SolveError, StepStats, Tolerances, drive};
+use rsf_solvers::{AutoDopri5, Dopri5, OdeSystem, Problem, SolveError, StepStats, Tolerances, drive};
 
 /// Friction and its parameter derivatives at the output times.
 #[derive(Clone, Debug, Default)]
@@ -58,8 +62,40 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
         out.as_mut_slice()[D..].copy_from_slice(ds.as_slice());
         out
     }
-    fn rhs_and_jacobian(&self, _: f64, _: &SVector<f64, DA>) -> (SVector<f64, DA>, SMatrix<f64, DA, DA>) {
-        unreachable!("the sensitivity system is integrated by the explicit method only")
+    /// The augmented Jacobian for the implicit stretches of [`Auto`]: block lower triangular,
+    /// J in the y block and in every S block on the diagonal, and the coupling
+    /// ∂(J S_c + ∂f/∂p_c)/∂y below it. The coupling holds second derivatives of f, taken here by
+    /// central differences of the exact first derivatives (relative step 1e-6: truncation
+    /// ~1e-12, round-off ~1e-10 relative; a Rosenbrock step tolerates such Jacobian errors,
+    /// which enter its local error multiplied by h).
+    fn rhs_and_jacobian(&self, t: f64, ya: &SVector<f64, DA>) -> (SVector<f64, DA>, SMatrix<f64, DA, DA>) {
+        let f = self.rhs(t, ya);
+        let mut ja = SMatrix::<f64, DA, DA>::zeros();
+        let mut dy = [0.0; D];
+        let mut j = SMatrix::<f64, D, D>::zeros();
+        self.sys.jacobian(t, &ya.as_slice()[..D], &mut dy, j.as_mut_slice());
+        for blk in 0..=P {
+            ja.fixed_view_mut::<D, D>(blk * D, blk * D).copy_from(&j);
+        }
+        for k in 0..D {
+            let eps = 1e-6 * (1.0 + ya[k].abs());
+            let (mut yp, mut ym) = (*ya, *ya);
+            yp[k] += eps;
+            ym[k] -= eps;
+            let (fp, fm) = (self.rhs(t, &yp), self.rhs(t, &ym));
+            for r in D..DA {
+                ja[(r, k)] = (fp[r] - fm[r]) / (2.0 * eps);
+            }
+        }
+        (f, ja)
+    }
+    /// ∂f/∂t of the augmented system under a normal-stress ramp (central difference in t;
+    /// f is smooth in t within a piece).
+    fn time_derivative(&self, t: f64, ya: &SVector<f64, DA>) -> Option<SVector<f64, DA>> {
+        self.sys.time_dependent().then(|| {
+            let dt = 1e-6 * (1.0 + t.abs());
+            (self.rhs(t + dt, ya) - self.rhs(t - dt, ya)) / (2.0 * dt)
+        })
     }
     #[inline]
     fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
@@ -83,7 +119,7 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
     }
 }
 
-/// Solves `problem` with Dormand–Prince at `rtol` and returns friction and ∂mu/∂p at the
+/// Solves `problem` with [`AutoDopri5`] at `rtol` and returns friction and ∂mu/∂p at the
 /// output times. Classic friction form, finite stiffness, 1–8 state variables; `max_steps` is
 /// the integrator's step budget per piece of loading.
 pub fn solve_with_sensitivities(
@@ -175,36 +211,41 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
         col_of[j] = Some(c);
     }
     let (mut gy, mut gp) = ([0.0; D], [0.0; PF]);
-    let alg = Dopri5 { max_steps, ..Dopri5::new(rtol, atol) };
     let ln_v_max = problem.max_slip_rate.ln();
     let mut stats = StepStats::default();
-    drive(
-        model,
-        pieces,
-        &t_out,
-        ya,
-        &alg,
-        |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols },
-        problem.max_slip_rate,
-        &mut stats,
-        |piece, t, ya| {
-            let sys = SpringSlider::for_piece(model, piece);
-            let y = &ya.as_slice()[..D];
-            sol.time.push(t);
-            sol.mu.push(sys.stress(y));
-            let _ = sys.stress_gradients(y, &mut gy, &mut gp);
-            for j in 0..PF {
-                let through_y = col_of[j].map_or(0.0, |c| {
-                    let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
-                    gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
-                });
-                sol.dmu.push(gp[j] + through_y);
-            }
-        },
-    )?;
+    let mut record = |piece: &rsf_core::Piece, t: f64, ya: &SVector<f64, DA>| {
+        let sys = SpringSlider::for_piece(model, piece);
+        let y = &ya.as_slice()[..D];
+        sol.time.push(t);
+        sol.mu.push(sys.stress(y));
+        let _ = sys.stress_gradients(y, &mut gy, &mut gp);
+        for j in 0..PF {
+            let through_y = col_of[j].map_or(0.0, |c| {
+                let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
+                gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
+            });
+            sol.dmu.push(gp[j] + through_y);
+        }
+    };
+    let make = |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols };
+    let msr = problem.max_slip_rate;
+    if DA <= MAX_IMPLICIT_SENS_DIM {
+        let alg = AutoDopri5 { max_steps, ..AutoDopri5::new(rtol, atol) };
+        drive(model, pieces, &t_out, ya, &alg, make, msr, &mut stats, &mut record)?;
+    } else {
+        let alg = Dopri5 { max_steps, ..Dopri5::new(rtol, atol) };
+        drive(model, pieces, &t_out, ya, &alg, make, msr, &mut stats, &mut record)?;
+    }
     sol.stats = stats;
     Ok(sol)
 }
+
+/// The largest augmented system (N + 2)(1 + P) that follows [`Auto`] into its implicit
+/// stretches: 52, i.e. up to two states with their α columns. The Rosenbrock stepper keeps the
+/// augmented Jacobian and its LU as stack matrices (21 KB each at 52; 1.1 MB at eight states,
+/// which would overflow a worker thread's stack), so larger systems stay explicit with
+/// [`Dopri5`], AutoDopri5's explicit method.
+pub const MAX_IMPLICIT_SENS_DIM: usize = 52;
 
 #[cfg(test)]
 mod tests {
@@ -231,8 +272,8 @@ mod tests {
                 let (mut pp, mut pm) = (p.clone(), p.clone());
                 pp[j] += h;
                 pm[j] -= h;
-                let fp = rsf_solvers::solve(&mk(rebuild(base, &pp)), &Dopri5::new(1e-12, 1e-15)).unwrap();
-                let fm = rsf_solvers::solve(&mk(rebuild(base, &pm)), &Dopri5::new(1e-12, 1e-15)).unwrap();
+                let fp = rsf_solvers::solve(&mk(rebuild(base, &pp)), &rsf_solvers::Dopri5::new(1e-12, 1e-15)).unwrap();
+                let fm = rsf_solvers::solve(&mk(rebuild(base, &pm)), &rsf_solvers::Dopri5::new(1e-12, 1e-15)).unwrap();
                 let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
                 let worst = (0..s.mu.len())
                     .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
@@ -310,6 +351,46 @@ mod tests {
         // α matters: its column is far from zero
         let ja = rsf_core::state_offset(0) + 3;
         assert!((0..s.mu.len()).any(|r| s.dmu[r * np + ja].abs() > 1e-3));
+    }
+
+    /// A stiff machine (k = 10 /µm, Dc = 0.1 µm: the spring relaxes in a/(kV) ≈ 1e-4 s while
+    /// the state evolves over Dc/V = 0.01 s): the sensitivities follow `auto` into Rodas5P with
+    /// the augmented Jacobian, match finite differences, and need a fraction of the steps the
+    /// explicit method alone takes (for one and two states, with and without α columns).
+    #[test]
+    fn stiff_sensitivities_switch_to_the_implicit_method() {
+        let one = Model::new(0.6, 1.0, 0.01, 10.0).with_state(StateVariable::new(Slip, 0.014, 0.1));
+        let two = Model::new(0.6, 1.0, 0.01, 10.0)
+            .with_state(StateVariable::new(Slip, 0.009, 0.1))
+            .with_state(StateVariable::new(Aging, 0.005, 1.0));
+        let segs = vec![
+            Segment::for_duration(10.0, 5.0),
+            Segment::for_duration(0.0, 100.0),
+            Segment::for_duration(10.0, 5.0),
+            Segment::for_duration(1.0, 5.0),
+        ];
+        for base in [one, two] {
+            let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 10.0, 0.5);
+            let s = solve_with_sensitivities(&mk(base.clone()), 1e-9, 1e-13, crate::fit::FIT_MAX_STEPS).unwrap();
+            let explicit = rsf_solvers::solve(&mk(base.clone()), &Dopri5::new(1e-9, 1e-13)).unwrap();
+            println!(
+                "N = {}: sensitivities {:?}; forward dopri5 {} steps",
+                base.n_states(),
+                s.stats,
+                explicit.stats.accepted
+            );
+            assert!(s.stats.to_implicit >= 2, "{:?}", s.stats);
+            assert!(
+                s.stats.accepted * 5 < explicit.stats.accepted,
+                "{} steps with sensitivities vs {} forward explicit",
+                s.stats.accepted,
+                explicit.stats.accepted
+            );
+            let all: Vec<usize> = (0..s.n_params).collect();
+            for (j, worst) in worst_errors(&base, &mk, &s, &all) {
+                assert!(worst < 1e-4, "N = {}, parameter {j}: max rel error {worst:e}", base.n_states());
+            }
+        }
     }
 
     /// The case that exposed uncontrolled sensitivities (basalt velstep7 with k free): steady

@@ -14,7 +14,7 @@
 
 use rsf_core::{Loading, Model, Segment, StateVariable};
 use rsf_laws::{Aging, Slip};
-use rsf_solvers::{Auto, Dopri5, Integrator, OutputTimes, Problem, Rodas4, Rodas5P, Solution, Tsit5, solve};
+use rsf_solvers::{Auto, Dopri5, Integrator, OutputTimes, Problem, Rodas4, Rodas5P, Solution, Tsit5, Vern6, solve};
 use std::time::Instant;
 
 #[path = "common/seed_protocol.rs"]
@@ -109,9 +109,10 @@ fn main() {
             let (te, e) = timed(&p, &Dopri5::new(rtol, 1e-11), repeats);
             let (ti, i) = timed(&p, &Rodas4::new(rtol, 1e-11), repeats);
             let (tt, ts) = timed(&p, &Tsit5::new(rtol, 1e-11), repeats);
+            let (tv, vs) = timed(&p, &Vern6::new(rtol, 1e-11), repeats);
             let (tp, ps) = timed(&p, &Rodas5P::new(rtol, 1e-11), repeats);
             let (ta, au) = timed(&p, &Auto::new(rtol, 1e-11), repeats);
-            for (t, s) in [(ta, &au), (tt, &ts), (te, &e), (tp, &ps), (ti, &i)] {
+            for (t, s) in [(ta, &au), (tv, &vs), (tt, &ts), (te, &e), (tp, &ps), (ti, &i)] {
                 row(law, rtol, t, s, segs.len(), max_dmu(s, &tight));
             }
             if law == "slip" {

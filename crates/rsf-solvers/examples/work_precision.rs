@@ -19,7 +19,7 @@
 
 use rsf_core::{Loading, Model, Segment, StateVariable};
 use rsf_laws::{Aging, Slip};
-use rsf_solvers::{Auto, Dopri5, Integrator, OutputTimes, Problem, Rodas4, Rodas5P, Solution, Tsit5, solve};
+use rsf_solvers::{Auto, Dopri5, Integrator, OutputTimes, Problem, Rodas4, Rodas5P, Solution, Tsit5, Vern6, solve};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -160,6 +160,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let results = [
                 ("auto", timed(&p, &Auto::new(rtol, atol), repeats)),
                 ("tsit5", timed(&p, &Tsit5::new(rtol, atol), repeats)),
+                ("vern6", timed(&p, &Vern6::new(rtol, atol), repeats)),
                 ("dopri5", timed(&p, &Dopri5::new(rtol, atol), repeats)),
                 ("rodas5p", timed(&p, &Rodas5P::new(rtol, atol), repeats)),
                 ("rodas4", timed(&p, &Rodas4::new(rtol, atol), repeats)),

@@ -9,7 +9,8 @@
 //! Coefficients: Dormand & Prince (1980); dense output and controller: Hairer, Nørsett &
 //! Wanner, Solving ODEs I, 2nd ed., II.5–II.6 (code DOPRI5).
 
-use crate::erk::ExplicitPair;
+use crate::erk::{ExplicitPair, Slopes};
+use crate::ode::{OdeSystem, StepStats};
 use nalgebra::SVector;
 
 crate::ode::integrator!(
@@ -20,7 +21,10 @@ crate::ode::integrator!(
     explicit
 );
 
-// The nodes c_i are not needed: the systems are autonomous within a piece.
+/// Hairer's threshold for the 5(4) pairs (code DOPRI5): the border of their stability region
+/// on the negative real axis is near −3.3.
+pub(crate) const STIFF_H_RHO_54: f64 = 3.25;
+
 const A21: f64 = 1.0 / 5.0;
 const A31: f64 = 3.0 / 40.0;
 const A32: f64 = 9.0 / 40.0;
@@ -55,21 +59,24 @@ const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
 impl ExplicitPair for Dopri5 {
-    const A: [[f64; 6]; 6] = [
-        [A21, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [A31, A32, 0.0, 0.0, 0.0, 0.0],
-        [A41, A42, A43, 0.0, 0.0, 0.0],
-        [A51, A52, A53, A54, 0.0, 0.0],
-        [A61, A62, A63, A64, A65, 0.0],
-        [A71, 0.0, A73, A74, A75, A76],
+    const STAGES: usize = 7;
+    const A: &'static [&'static [f64]] = &[
+        &[A21],
+        &[A31, A32],
+        &[A41, A42, A43],
+        &[A51, A52, A53, A54],
+        &[A61, A62, A63, A64, A65],
+        &[A71, 0.0, A73, A74, A75, A76],
     ];
-    const E: [f64; 7] = [E1, 0.0, E3, E4, E5, E6, E7];
+    const E: &'static [f64] = &[E1, 0.0, E3, E4, E5, E6, E7];
+    const EMBEDDED_ORDER: i32 = 4;
+    const STIFF_H_RHO: f64 = STIFF_H_RHO_54;
 
-    fn dense<const D: usize>(
-        k: &[SVector<f64, D>; 7],
-        y0: &SVector<f64, D>,
-        y1: &SVector<f64, D>,
-        h: f64,
+    fn dense<const D: usize, S: OdeSystem<D>>(
+        k: &mut Slopes<D>,
+        (_, y0, y1, h): (f64, &SVector<f64, D>, &SVector<f64, D>, f64),
+        _: &S,
+        _: &mut StepStats,
     ) -> impl Fn(f64) -> SVector<f64, D> {
         let ydiff = y1 - y0;
         let bspl = k[0] * h - ydiff;

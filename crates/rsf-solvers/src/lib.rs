@@ -1,7 +1,7 @@
 //! # rsf-solvers — integrators and the forward solver
 //!
 //! A [`Problem`] (model + loading + output times), an algorithm ([`Auto`], the default, which
-//! runs [`Tsit5`] while the problem is non-stiff and [`Rodas5P`] where it is stiff; or any of
+//! runs [`Vern6`] while the problem is non-stiff and [`Rodas5P`] where it is stiff; or any of
 //! them alone, or [`Dopri5`] / [`Rodas4`] for comparison — all implementing [`Integrator`]) and
 //! a [`Solution`] are separate values: swap the algorithm without touching the problem.
 //!
@@ -54,9 +54,10 @@ mod solution;
 mod solve;
 mod tableau;
 mod tsit5;
+mod vern6;
 mod watch;
 
-pub use auto::Auto;
+pub use auto::{Auto, AutoDopri5};
 pub use dopri5::Dopri5;
 pub use large::{Flow, LargeSystem, LargeTsit5};
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
@@ -65,15 +66,18 @@ pub use rodas5p::Rodas5P;
 pub use solution::Solution;
 pub use solve::{MAX_STATES, OutputTimes, Problem, SolveError, drive, output_times, solve, solve_friction};
 pub use tsit5::Tsit5;
+pub use vern6::Vern6;
 pub use watch::{SlipEvent, WatchOptions};
 
 /// The built-in methods, for run-time selection (e.g. from a protocol file).
 #[derive(Clone, Copy, Debug)]
 pub enum Method {
-    /// [`Auto`]: Tsit5 while non-stiff, Rodas5P where stiff (the default).
+    /// [`Auto`]: Vern6 while non-stiff, Rodas5P where stiff (the default).
     Auto(Auto),
     /// [`Tsit5`].
     Tsit5(Tsit5),
+    /// [`Vern6`].
+    Vern6(Vern6),
     /// [`Dopri5`].
     Dopri5(Dopri5),
     /// [`Rodas5P`].
@@ -85,13 +89,14 @@ pub enum Method {
 impl Method {
     /// The names [`from_name`](Self::from_name) accepts, besides the aliases `explicit` (Tsit5)
     /// and `implicit` (Rodas5P).
-    pub const NAMES: [&'static str; 5] = ["auto", "tsit5", "dopri5", "rodas5p", "rodas4"];
+    pub const NAMES: [&'static str; 6] = ["auto", "tsit5", "vern6", "dopri5", "rodas5p", "rodas4"];
 
     /// A method by name with tolerances; `None` for an unknown name.
     pub fn from_name(name: &str, rtol: f64, atol: f64) -> Option<Self> {
         Some(match name {
             "auto" => Self::Auto(Auto::new(rtol, atol)),
             "tsit5" | "explicit" => Self::Tsit5(Tsit5::new(rtol, atol)),
+            "vern6" => Self::Vern6(Vern6::new(rtol, atol)),
             "dopri5" => Self::Dopri5(Dopri5::new(rtol, atol)),
             "rodas5p" | "implicit" => Self::Rodas5P(Rodas5P::new(rtol, atol)),
             "rodas4" => Self::Rodas4(Rodas4::new(rtol, atol)),
@@ -103,6 +108,7 @@ impl Method {
         match self {
             Self::Auto(m) => m.name(),
             Self::Tsit5(m) => m.name(),
+            Self::Vern6(m) => m.name(),
             Self::Dopri5(m) => m.name(),
             Self::Rodas5P(m) => m.name(),
             Self::Rodas4(m) => m.name(),
@@ -113,6 +119,7 @@ impl Method {
         match self {
             Self::Auto(m) => m.tol,
             Self::Tsit5(m) => m.tol,
+            Self::Vern6(m) => m.tol,
             Self::Dopri5(m) => m.tol,
             Self::Rodas5P(m) => m.tol,
             Self::Rodas4(m) => m.tol,
@@ -123,6 +130,7 @@ impl Method {
         match self {
             Self::Auto(m) => solve(problem, m),
             Self::Tsit5(m) => solve(problem, m),
+            Self::Vern6(m) => solve(problem, m),
             Self::Dopri5(m) => solve(problem, m),
             Self::Rodas5P(m) => solve(problem, m),
             Self::Rodas4(m) => solve(problem, m),

@@ -214,8 +214,8 @@ pub(crate) use integrator;
 
 /// A time-stepping method. The same problem runs unchanged under any integrator.
 ///
-/// Implementations: [`Auto`](crate::Auto) (the default: Tsit5 while non-stiff, Rodas5P where
-/// stiff), [`Tsit5`](crate::Tsit5) and [`Dopri5`](crate::Dopri5) (explicit), and
+/// Implementations: [`Auto`](crate::Auto) (the default: Vern6 while non-stiff, Rodas5P where
+/// stiff), [`Vern6`](crate::Vern6), [`Tsit5`](crate::Tsit5) and [`Dopri5`](crate::Dopri5) (explicit), and
 /// [`Rodas5P`](crate::Rodas5P) and [`Rodas4`](crate::Rodas4) (implicit, exact Jacobian).
 pub trait Integrator {
     /// Method name for output, e.g. `"dopri5"`.
@@ -344,7 +344,7 @@ pub(crate) fn h_min(t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Auto, Dopri5, Rodas4, Rodas5P, Tsit5};
+    use crate::{Auto, Dopri5, Rodas4, Rodas5P, Tsit5, Vern6};
 
     /// y1' = y2, y2' = −y1 (harmonic oscillator, exact solution cos/sin), plus a stiff
     /// decaying component y3' = −λ (y3 − cos t)… kept autonomous by carrying t as y4.
@@ -401,7 +401,10 @@ mod tests {
                 let (e_t, d_t, _) = run(&Tsit5::new(rtol, rtol), lambda, &t_out);
                 let (e_p, d_p, _) = run(&Rodas5P::new(rtol, rtol), lambda, &t_out);
                 let (e_a, d_a, _) = run(&Auto::new(rtol, rtol), lambda, &t_out);
-                for (name, e, d) in [("tsit5", e_t, d_t), ("rodas5p", e_p, d_p), ("auto", e_a, d_a)] {
+                let (e_v, d_v, _) = run(&Vern6::new(rtol, rtol), lambda, &t_out);
+                for (name, e, d) in
+                    [("tsit5", e_t, d_t), ("rodas5p", e_p, d_p), ("auto", e_a, d_a), ("vern6", e_v, d_v)]
+                {
                     assert!(e < 200.0 * rtol && d < 500.0 * rtol, "{name} λ={lambda} rtol={rtol}: {e:e} {d:e}");
                 }
                 assert!(e_d < 200.0 * rtol && e_r < 200.0 * rtol, "λ={lambda} rtol={rtol}: end errors {e_d:e} {e_r:e}");
@@ -490,9 +493,10 @@ mod tests {
                 ("rodas5p", both(&Rodas5P::new(1e-8, 1e-8), lambda)),
                 ("tsit5", both(&Tsit5::new(1e-8, 1e-8), lambda)),
                 ("dopri5", both(&Dopri5::new(1e-8, 1e-8), lambda)),
+                ("vern6", both(&Vern6::new(1e-8, 1e-8), lambda)),
                 ("auto", both(&Auto::new(1e-8, 1e-8), lambda)),
             ] {
-                if lambda > 1.0 && (name == "tsit5" || name == "dopri5") {
+                if lambda > 1.0 && (name == "tsit5" || name == "dopri5" || name == "vern6") {
                     continue; // at their stability limit round-off alone steers the step sizes
                 }
                 println!("{name} λ={lambda}: |Δy| {d:.1e}, steps {} vs {}", s1.accepted, s2.accepted);
@@ -538,15 +542,15 @@ mod tests {
     fn auto_switches_only_when_stiff() {
         let t_out: Vec<f64> = (1..1000).map(|i| i as f64 * 0.01).collect();
         let (e, d, s) = run(&Auto::new(1e-9, 1e-9), 1.0, &t_out);
-        let (_, _, st) = run(&Tsit5::new(1e-9, 1e-9), 1.0, &t_out);
+        let (_, _, st) = run(&Vern6::new(1e-9, 1e-9), 1.0, &t_out);
         assert_eq!((s.to_implicit, s.to_explicit), (0, 0), "non-stiff: {s:?}");
-        assert_eq!(s.accepted, st.accepted, "non-stiff: auto is tsit5");
+        assert_eq!(s.accepted, st.accepted, "non-stiff: auto is vern6");
         assert!(e.max(d) < 1e-7);
         let (e, d, s) = run(&Auto::new(1e-9, 1e-9), 1e4, &t_out);
-        let (_, _, st) = run(&Tsit5::new(1e-9, 1e-9), 1e4, &t_out);
-        println!("stiff: auto {s:?}\n       tsit5 {st:?}");
+        let (_, _, st) = run(&Vern6::new(1e-9, 1e-9), 1e4, &t_out);
+        println!("stiff: auto {s:?}\n       vern6 {st:?}");
         assert!(s.to_implicit >= 1, "stiff: {s:?}");
-        assert!(s.accepted * 3 < st.accepted, "auto {} vs tsit5 {} steps", s.accepted, st.accepted);
+        assert!(s.accepted * 3 < st.accepted, "auto {} vs vern6 {} steps", s.accepted, st.accepted);
         assert!(e.max(d) < 1e-6, "auto error {e:e}, dense {d:e}");
     }
 }

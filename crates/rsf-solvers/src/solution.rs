@@ -46,7 +46,7 @@ impl Solution {
 
     /// Writes the CSV `time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s…]`,
     /// then `peak_slip_rate_um_s` when watched and `normal_stress_mpa` when σ varies, with
-    /// shortest round-trip number formatting (`ryu`: exact, and fast enough that writing
+    /// shortest round-trip number formatting (`zmij`: exact, and fast enough that writing
     /// does not dominate a solve).
     pub fn write_csv<W: std::io::Write>(&self, w: W) -> std::io::Result<()> {
         use std::io::Write;
@@ -64,12 +64,13 @@ impl Solution {
             write!(w, ",normal_stress_mpa")?;
         }
         writeln!(w)?;
-        let mut buf = ryu::Buffer::new();
+        let mut buf = zmij::Buffer::new();
+        let mut ibuf = itoa::Buffer::new();
         let mut line: Vec<u8> = Vec::with_capacity(256);
         let mut num = |line: &mut Vec<u8>, x: f64| {
             // integers print without a fraction (0 rather than 0.0)
             if x == x.trunc() && x.abs() < 1e15 {
-                let _ = write!(line, "{}", x as i64);
+                line.extend_from_slice(ibuf.format(x as i64).as_bytes());
             } else {
                 line.extend_from_slice(buf.format(x).as_bytes());
             }

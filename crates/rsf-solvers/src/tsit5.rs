@@ -6,7 +6,8 @@
 //! minimise the principal error), so it takes fewer steps at the same tolerance; the measured
 //! gain on rsf's problems is in docs/BENCHMARKS.md.
 
-use crate::erk::ExplicitPair;
+use crate::erk::{ExplicitPair, Slopes};
+use crate::ode::{OdeSystem, StepStats};
 use crate::tableau::tsit5::{A, E, R};
 use nalgebra::SVector;
 
@@ -18,16 +19,19 @@ crate::ode::integrator!(
 );
 
 impl ExplicitPair for Tsit5 {
-    const A: [[f64; 6]; 6] = A;
-    const E: [f64; 7] = E;
+    const STAGES: usize = 7;
+    const A: &'static [&'static [f64]] = &A;
+    const E: &'static [f64] = &E;
+    const EMBEDDED_ORDER: i32 = 4;
+    const STIFF_H_RHO: f64 = crate::dopri5::STIFF_H_RHO_54;
 
-    fn dense<const D: usize>(
-        k: &[SVector<f64, D>; 7],
-        y0: &SVector<f64, D>,
-        _y1: &SVector<f64, D>,
-        h: f64,
+    fn dense<const D: usize, S: OdeSystem<D>>(
+        k: &mut Slopes<D>,
+        (_, y0, _, h): (f64, &SVector<f64, D>, &SVector<f64, D>, f64),
+        _: &S,
+        _: &mut StepStats,
     ) -> impl Fn(f64) -> SVector<f64, D> {
-        let (k, y0) = (*k, *y0);
+        let (k, y0): ([SVector<f64, D>; 7], _) = (std::array::from_fn(|i| k[i]), *y0);
         move |s: f64| {
             let mut acc = SVector::<f64, D>::zeros();
             for (ki, r) in k.iter().zip(&R) {

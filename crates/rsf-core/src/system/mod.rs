@@ -6,7 +6,7 @@ mod tests;
 
 pub use sensitivity::{N_GLOBAL, PER_STATE, n_params, param_index, state_offset};
 
-use crate::law::StateArgs;
+use crate::law::{LnArgs, StateArgs};
 use crate::loading::Piece;
 use crate::model::Model;
 
@@ -44,19 +44,29 @@ pub struct SpringSlider<'a> {
     s_rate: f64,
     /// Start of the piece, s (the origin of the σ ramp).
     t0: f64,
+    /// ln Dc of the first [`LN_DC_CACHED`] states, computed once per piece instead of once per
+    /// right-hand side.
+    ln_dc: [f64; LN_DC_CACHED],
 }
+
+/// How many states' ln Dc a [`SpringSlider`] keeps at hand (more states compute theirs).
+const LN_DC_CACHED: usize = 8;
 
 impl<'a> SpringSlider<'a> {
     /// The system for `model` loaded at `v_lp` (µm/s) at constant normal stress σ_ref.
     pub fn new(model: &'a Model, v_lp: f64) -> Self {
-        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0 }
+        let mut ln_dc = [0.0; LN_DC_CACHED];
+        for (l, st) in ln_dc.iter_mut().zip(&model.states) {
+            *l = st.dc.ln();
+        }
+        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0, ln_dc }
     }
 
     /// The system during `piece`: its load-point velocity and its normal stress (MPa, relative
     /// to the model's σ_ref).
     pub fn for_piece(model: &'a Model, piece: &Piece) -> Self {
         let sr = model.sigma_ref();
-        Self { model, v_lp: piece.v, s0: piece.sigma0 / sr, s_rate: piece.sigma_rate / sr, t0: piece.t0 }
+        Self { s0: piece.sigma0 / sr, s_rate: piece.sigma_rate / sr, t0: piece.t0, ..Self::new(model, piece.v) }
     }
 
     /// Whether the right-hand side depends on time (a normal-stress ramp).
@@ -114,7 +124,9 @@ impl<'a> SpringSlider<'a> {
         }
     }
 
-    /// Right-hand side `dy/dt` at time `t` into `dy` (both of length N + 2).
+    /// Right-hand side `dy/dt` at time `t` into `dy` (both of length N + 2). The states' rates
+    /// come from their laws' log forms ([`StateLaw::ln_theta_rate`](crate::StateLaw)): with
+    /// the Slip law the only transcendental call left is V = e^x.
     #[inline]
     pub fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let m = self.model;
@@ -124,11 +136,21 @@ impl<'a> SpringSlider<'a> {
         let (s, log_rate) = self.sigma(t);
         let imposed = m.imposed_velocity();
         let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
+        let sr = m.sigma_ref();
         let mut psi_rate = 0.0;
         for (i, st) in m.states.iter().enumerate() {
-            let theta = y[1 + i].exp();
-            let g = st.law.rate(&self.args(i, v, theta, tau_rate, s));
-            let mut zdot = g / theta;
+            let la = LnArgs {
+                x,
+                v,
+                z: y[1 + i],
+                dc: st.dc,
+                ln_dc: if i < LN_DC_CACHED { self.ln_dc[i] } else { st.dc.ln() },
+                b: st.b,
+                stress_rate: tau_rate,
+                normal_stress: s * sr,
+                normal_stress_rate: self.s_rate * sr,
+            };
+            let mut zdot = st.law.ln_rate(&la);
             if st.alpha != 0.0 && log_rate != 0.0 {
                 zdot -= st.alpha / st.b * log_rate;
             }

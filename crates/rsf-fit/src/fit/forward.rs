@@ -67,7 +67,7 @@ pub fn model_curve(
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
-    let alg = rsf_solvers::Dopri5 { max_steps: FIT_MAX_STEPS, ..rsf_solvers::Dopri5::new(rtol, rtol * 1e-4) };
+    let alg = rsf_solvers::AutoDopri5 { max_steps: FIT_MAX_STEPS, ..rsf_solvers::AutoDopri5::new(rtol, rtol * 1e-4) };
     let (mut mu, _) = rsf_solvers::solve_friction(&problem, &alg)?;
     if map.slots.len() > np {
         for (r, &seg) in p.seg_of.iter().enumerate() {
@@ -88,7 +88,10 @@ pub(super) fn model_slip_rate(
     full: &[f64],
 ) -> Result<Vec<f64>, SolveError> {
     let model = map.model(opts, full, p.v_init).map_err(SolveError::Input)?;
-    let alg = rsf_solvers::Dopri5 { max_steps: FIT_MAX_STEPS, ..rsf_solvers::Dopri5::new(opts.rtol, opts.rtol * 1e-4) };
+    let alg = rsf_solvers::AutoDopri5 {
+        max_steps: FIT_MAX_STEPS,
+        ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
+    };
     Ok(rsf_solvers::solve(&forward_problem(p, opts, model), &alg)?.slip_rate)
 }
 

@@ -255,7 +255,7 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
     """Solves a forward problem: ``simulate(model, protocol, dt=…)``, ``simulate(setup)`` (from
     :func:`load_protocol`), or ``simulate(path_or_toml_text)`` — exactly as ``rsf simulate``.
 
-    ``method``: ``"auto"`` (default), ``"tsit5"``, ``"dopri5"``, ``"rodas5p"``, ``"rodas4"``,
+    ``method``: ``"auto"`` (default), ``"vern6"``, ``"tsit5"``, ``"dopri5"``, ``"rodas5p"``, ``"rodas4"``,
     ``"explicit"``, ``"implicit"``. With ``time`` (s) and ``load_point`` (µm) arrays a measured
     load point drives the model (piecewise linear) with output at ``time``.
     Raises ValueError (bad input, the CLI's message) or :class:`SolveError` (a failed solve).

@@ -4,6 +4,7 @@
 pub(crate) mod rodas4;
 pub(crate) mod rodas5p;
 pub(crate) mod tsit5;
+pub(crate) mod vern6;
 
 /// A stiffly accurate Rosenbrock method of `S` stages in the increment form of Hairer &
 /// Wanner (Solving ODEs II, IV.7, eq. 7.4'), for an autonomous system:
