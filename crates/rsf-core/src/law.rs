@@ -55,6 +55,8 @@ pub struct LnArgs {
     pub x: f64,
     /// V = e^x, µm/s.
     pub v: f64,
+    /// V/Dc, 1/s (the rate at which θ relaxes at constant V).
+    pub v_dc: f64,
     /// z = ln θ (θ in s).
     pub z: f64,
     /// Dc, µm.
@@ -74,7 +76,19 @@ pub struct LnArgs {
 impl LnArgs {
     /// Arguments at x = ln V, z = ln θ with zero stress rate at unit normal stress.
     pub fn new(x: f64, z: f64, dc: f64, b: f64) -> Self {
-        Self { x, v: x.exp(), z, dc, ln_dc: dc.ln(), b, stress_rate: 0.0, normal_stress: 1.0, normal_stress_rate: 0.0 }
+        let v = x.exp();
+        Self {
+            x,
+            v,
+            v_dc: v / dc,
+            z,
+            dc,
+            ln_dc: dc.ln(),
+            b,
+            stress_rate: 0.0,
+            normal_stress: 1.0,
+            normal_stress_rate: 0.0,
+        }
     }
 
     /// The same point in the plain variables (θ = e^z).

@@ -369,8 +369,23 @@ mod tests {
             Segment::for_duration(10.0, 5.0),
             Segment::for_duration(1.0, 5.0),
         ];
+        // the second model also under normal-stress ramps (during sliding and in the hold), so
+        // that the implicit stretches see a time-dependent augmented system (∂f/∂t)
+        let two = two.with_normal_stress(10.0);
+        let two = Model { states: two.states.iter().map(|s| s.clone().with_alpha(0.2)).collect(), ..two };
+        let sn = rsf_core::NormalStressRecord {
+            time: vec![0.0, 1.0, 3.0, 20.0, 40.0, 115.0],
+            sigma: vec![10.0, 10.0, 11.0, 11.0, 10.5, 10.5],
+        };
         for base in [one, two] {
-            let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 10.0, 0.5);
+            let ramps = base.normal_stress.is_some();
+            let mk = |m: Model| {
+                let mut p = Problem::new(m, Loading::Segments(segs.clone()), 10.0, 0.5);
+                if ramps {
+                    p.normal_stress = Some(sn.clone());
+                }
+                p
+            };
             let s = solve_with_sensitivities(&mk(base.clone()), 1e-9, 1e-13, crate::fit::FIT_MAX_STEPS).unwrap();
             let explicit = rsf_solvers::solve(&mk(base.clone()), &Dopri5::new(1e-9, 1e-13)).unwrap();
             println!(

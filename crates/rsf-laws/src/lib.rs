@@ -45,7 +45,7 @@ impl StateLaw for Aging {
     }
     /// 1/θ − V/Dc: one exponential, no division.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        (-s.z).exp() - s.v / s.dc
+        (-s.z).exp() - s.v_dc
     }
     /// Hand-derived: ∂G/∂V = −θ/Dc, ∂G/∂θ = −V/Dc, ∂G/∂Dc = Ω/Dc (checked against the
     /// dual-number default).
@@ -85,7 +85,7 @@ impl StateLaw for Slip {
     }
     /// −(V/Dc) ln Ω with ln Ω = x + z − ln Dc: no transcendental call at all.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        -(s.v / s.dc) * (s.x + s.z - s.ln_dc)
+        -s.v_dc * (s.x + s.z - s.ln_dc)
     }
     /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1),
     /// ∂G/∂Dc = (Ω/Dc)(ln Ω + 1).
@@ -131,7 +131,7 @@ impl StateLaw for KatoTullis {
     }
     /// e^(−V/Vc − z) − (V/Dc) ln Ω: one exponential instead of three calls.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        (-s.v / self.vc - s.z).exp() - (s.v / s.dc) * (s.x + s.z - s.ln_dc)
+        (-s.v / self.vc - s.z).exp() - s.v_dc * (s.x + s.z - s.ln_dc)
     }
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         vec![("vc", self.vc)]
@@ -219,7 +219,7 @@ impl StateLaw for Nagata {
     }
     /// 1/θ − V/Dc − (c/b) dτ/dt.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        (-s.z).exp() - s.v / s.dc - s.stress_rate * self.c / s.b
+        (-s.z).exp() - s.v_dc - s.stress_rate * self.c / s.b
     }
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         vec![("c", self.c)]

@@ -44,29 +44,38 @@ pub struct SpringSlider<'a> {
     s_rate: f64,
     /// Start of the piece, s (the origin of the σ ramp).
     t0: f64,
-    /// ln Dc of the first [`LN_DC_CACHED`] states, computed once per piece instead of once per
-    /// right-hand side.
-    ln_dc: [f64; LN_DC_CACHED],
+    /// ln Dc and 1/Dc of the first [`DC_CACHED`] states, computed once per piece instead of
+    /// once per right-hand side.
+    ln_dc: [f64; DC_CACHED],
+    inv_dc: [f64; DC_CACHED],
+    /// 1/s0 (exactly 1 at the reference normal stress).
+    inv_s0: f64,
+    /// 1/a, for the classic form without radiation damping, where dx/dt divides by a.
+    inv_a: f64,
 }
 
-/// How many states' ln Dc a [`SpringSlider`] keeps at hand (more states compute theirs).
-const LN_DC_CACHED: usize = 8;
+/// How many states' Dc a [`SpringSlider`] keeps at hand (more states compute theirs). The right
+/// hand side is latency-bound: a division or a logarithm in its dependency chain costs as much
+/// as the arithmetic around it, so per-piece constants are precomputed.
+const DC_CACHED: usize = 8;
 
 impl<'a> SpringSlider<'a> {
     /// The system for `model` loaded at `v_lp` (µm/s) at constant normal stress σ_ref.
     pub fn new(model: &'a Model, v_lp: f64) -> Self {
-        let mut ln_dc = [0.0; LN_DC_CACHED];
-        for (l, st) in ln_dc.iter_mut().zip(&model.states) {
+        let (mut ln_dc, mut inv_dc) = ([0.0; DC_CACHED], [0.0; DC_CACHED]);
+        for ((l, i), st) in ln_dc.iter_mut().zip(inv_dc.iter_mut()).zip(&model.states) {
             *l = st.dc.ln();
+            *i = 1.0 / st.dc;
         }
-        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0, ln_dc }
+        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0, ln_dc, inv_dc, inv_s0: 1.0, inv_a: 1.0 / model.a }
     }
 
     /// The system during `piece`: its load-point velocity and its normal stress (MPa, relative
     /// to the model's σ_ref).
     pub fn for_piece(model: &'a Model, piece: &Piece) -> Self {
         let sr = model.sigma_ref();
-        Self { s0: piece.sigma0 / sr, s_rate: piece.sigma_rate / sr, t0: piece.t0, ..Self::new(model, piece.v) }
+        let s0 = piece.sigma0 / sr;
+        Self { s0, s_rate: piece.sigma_rate / sr, t0: piece.t0, inv_s0: 1.0 / s0, ..Self::new(model, piece.v) }
     }
 
     /// Whether the right-hand side depends on time (a normal-stress ramp).
@@ -135,16 +144,25 @@ impl<'a> SpringSlider<'a> {
         let v = x.exp();
         let (s, log_rate) = self.sigma(t);
         let imposed = m.imposed_velocity();
-        let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
+        let tau_rate = if imposed {
+            0.0
+        } else if self.s_rate == 0.0 {
+            m.stiffness * (self.v_lp - v) * self.inv_s0
+        } else {
+            m.stiffness * (self.v_lp - v) / s
+        };
         let sr = m.sigma_ref();
         let mut psi_rate = 0.0;
         for (i, st) in m.states.iter().enumerate() {
+            let (ln_dc, inv_dc) =
+                if i < DC_CACHED { (self.ln_dc[i], self.inv_dc[i]) } else { (st.dc.ln(), 1.0 / st.dc) };
             let la = LnArgs {
                 x,
                 v,
+                v_dc: v * inv_dc,
                 z: y[1 + i],
                 dc: st.dc,
-                ln_dc: if i < LN_DC_CACHED { self.ln_dc[i] } else { st.dc.ln() },
+                ln_dc,
                 b: st.b,
                 stress_rate: tau_rate,
                 normal_stress: s * sr,
@@ -159,6 +177,9 @@ impl<'a> SpringSlider<'a> {
         }
         dy[0] = if imposed {
             0.0
+        } else if log_rate == 0.0 && m.eta == 0.0 && m.form == crate::FrictionForm::Classic {
+            // ∂f/∂x = a, ∂f/∂Ψ = 1
+            (tau_rate - m.slip_trend * v - psi_rate) * self.inv_a
         } else {
             let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
             let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
