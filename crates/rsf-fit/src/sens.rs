@@ -8,7 +8,8 @@
 //! integrated with the automatic stiffness switching of the forward solver's default method,
 //! as [`AutoDopri5`] (Dopri5 while non-stiff: fits sample the model at every data point, where
 //! its free interpolant beats Vern6's extra stage; Rodas5P where stiff, with the augmented
-//! Jacobian below), with error control on y and, more
+//! Jacobian below; systems above [`MAX_IMPLICIT_SENS_DIM`] stay with Dopri5), with error
+//! control on y and, more
 //! loosely (10 rtol, relative with a floor of 1), on S; dense output gives both at the sample
 //! times.
 
@@ -62,7 +63,7 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
         out.as_mut_slice()[D..].copy_from_slice(ds.as_slice());
         out
     }
-    /// The augmented Jacobian for the implicit stretches of [`Auto`]: block lower triangular,
+    /// The augmented Jacobian for the implicit stretches of [`AutoDopri5`]: block lower triangular,
     /// J in the y block and in every S block on the diagonal, and the coupling
     /// ∂(J S_c + ∂f/∂p_c)/∂y below it. The coupling holds second derivatives of f, taken here by
     /// central differences of the exact first derivatives (relative step 1e-6: truncation
@@ -89,13 +90,20 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
         }
         (f, ja)
     }
-    /// ∂f/∂t of the augmented system under a normal-stress ramp (central difference in t;
-    /// f is smooth in t within a piece).
+    /// ∂f/∂t of the augmented system under a normal-stress ramp: a central difference in t
+    /// over the time in which σ changes by 1e-7 of itself (the spring-slider's own step), so
+    /// the step follows the ramp, not the clock.
     fn time_derivative(&self, t: f64, ya: &SVector<f64, DA>) -> Option<SVector<f64, DA>> {
         self.sys.time_dependent().then(|| {
-            let dt = 1e-6 * (1.0 + t.abs());
+            let dt = self.sys.ramp_time_step(t);
             (self.rhs(t + dt, ya) - self.rhs(t - dt, ya)) / (2.0 * dt)
         })
+    }
+    /// ρ of the block lower-triangular augmented Jacobian is ρ(J): bound it by the y block's
+    /// row sums (the coupling rows hold ∂J/∂y·S, which can be far larger without changing a
+    /// single eigenvalue, and would keep the automatic method implicit for nothing).
+    fn spectral_radius_bound(&self, jac: &SMatrix<f64, DA, DA>) -> f64 {
+        (0..D).map(|r| (0..D).map(|c| jac[(r, c)].abs()).sum::<f64>()).fold(0.0, f64::max)
     }
     #[inline]
     fn error_scale(&self, i: usize, y0: f64, y1: f64, tol: &Tolerances) -> f64 {
@@ -119,7 +127,7 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
     }
 }
 
-/// Solves `problem` with [`AutoDopri5`] at `rtol` and returns friction and ∂mu/∂p at the
+/// Solves `problem` with [`AutoDopri5`] (Dopri5 above [`MAX_IMPLICIT_SENS_DIM`]) at `rtol` and returns friction and ∂mu/∂p at the
 /// output times. Classic friction form, finite stiffness, 1–8 state variables; `max_steps` is
 /// the integrator's step budget per piece of loading.
 pub fn solve_with_sensitivities(
@@ -240,7 +248,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     Ok(sol)
 }
 
-/// The largest augmented system (N + 2)(1 + P) that follows [`Auto`] into its implicit
+/// The largest augmented system (N + 2)(1 + P) that follows [`AutoDopri5`] into its implicit
 /// stretches: 52, i.e. up to two states with their α columns. The Rosenbrock stepper keeps the
 /// augmented Jacobian and its LU as stack matrices (21 KB each at 52; 1.1 MB at eight states,
 /// which would overflow a worker thread's stack), so larger systems stay explicit with

@@ -20,8 +20,8 @@ pub(crate) type Slopes<const D: usize> = [SVector<f64, D>; MAX_STAGES];
 pub(crate) trait ExplicitPair {
     /// Stages per step, the last being f(y1) (FSAL).
     const STAGES: usize;
-    /// Rows 2..=STAGES of a_ij (row i has i − 1 entries; the last row holds the weights of the
-    /// propagated solution).
+    /// Rows 2..=STAGES of a_ij (row i has i − 1 entries; row STAGES holds the weights of the
+    /// propagated solution), then any rows of the interpolant's extra stages.
     const A: &'static [&'static [f64]];
     /// Error weights b̂ − b over the `STAGES` slopes.
     const E: &'static [f64];
@@ -78,6 +78,7 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
     stats: &mut StepStats,
     leave_when_stiff: bool,
 ) -> Result<Reached<D>, IntegrationError> {
+    const { assert!(P::STAGES <= MAX_STAGES && P::STAGES >= 3) };
     let (a, ns) = (P::A, P::STAGES);
     let (beta, safe, facc1, facc2) = (0.04, 0.9, 1.0 / 0.2, 1.0 / 10.0);
     let expo1 = 1.0 / (P::EMBEDDED_ORDER as f64 + 1.0) - beta * 0.75;

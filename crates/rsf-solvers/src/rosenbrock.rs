@@ -55,8 +55,8 @@ pub(crate) fn integrate<const S: usize, const R: usize, const D: usize, Sys: Ode
         if h <= 0.0 {
             h = initial_step(sys, t, &y, &f0, span, tab.err_order as i32, tol, stats);
         }
-        // the dominant eigenvalue of J bounded by its row-sum norm (D ≤ 10: exact enough)
-        let rho = if leave_when_nonstiff { jac.row_iter().map(|r| r.abs().sum()).fold(0.0, f64::max) } else { 0.0 };
+        // the dominant eigenvalue of J, bounded by the system (default: the row-sum norm)
+        let rho = if leave_when_nonstiff { sys.spectral_radius_bound(&jac) } else { 0.0 };
         loop {
             if steps >= max_steps {
                 return Err(IntegrationError::TooManySteps { t, steps });

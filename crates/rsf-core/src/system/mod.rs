@@ -34,7 +34,8 @@ use crate::model::Model;
 /// implicit methods.
 #[derive(Clone, Copy, Debug)]
 pub struct SpringSlider<'a> {
-    /// The model.
+    /// The model (read only: the constructors cache quantities derived from it, such as ln Dc
+    /// and 1/a; build a new system for a changed model).
     pub model: &'a Model,
     /// Load-point velocity during this piece, µm/s.
     pub v_lp: f64,
@@ -269,15 +270,21 @@ impl<'a> SpringSlider<'a> {
             dfdt.iter_mut().for_each(|x| *x = 0.0);
             return;
         }
-        let (s, _) = self.sigma(t);
-        let h = 1e-7 * s;
-        let dt = h / self.s_rate;
+        let dt = self.ramp_time_step(t);
         let mut fp = vec![0.0; y.len()];
         self.rhs(t + dt, y, &mut fp);
         self.rhs(t - dt, y, dfdt);
         for (o, p) in dfdt.iter_mut().zip(&fp) {
             *o = (p - *o) / (2.0 * dt);
         }
+    }
+
+    /// The time step (s) of a central difference in t under a normal-stress ramp: the time in
+    /// which σ changes by 1e-7 of itself (the step [`time_derivative`](Self::time_derivative)
+    /// takes; systems that augment this one difference theirs with it too). Infinite at
+    /// constant σ.
+    pub fn ramp_time_step(&self, t: f64) -> f64 {
+        if self.s_rate == 0.0 { f64::INFINITY } else { (1e-7 * self.sigma(t).0 / self.s_rate).abs() }
     }
 
     /// Applies an instantaneous normal-stress step σ⁻ → σ⁺ (MPa) to `y` at a fixed load point:
