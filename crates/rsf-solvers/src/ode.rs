@@ -318,7 +318,7 @@ pub(crate) fn clip_step(t: f64, h: f64, t1: f64, span: f64) -> Result<(f64, bool
 
 /// Emits every requested output time in `(t, t_new]` after an accepted step: `y1` itself at
 /// `t_new`, the dense output `interp(s)` (s = (t_out − t)/h) in between. `interp` is built
-/// only when the step holds an output time.
+/// only when an output time lies strictly inside the step.
 #[inline]
 pub(crate) fn emit_dense<const D: usize, F: Fn(f64) -> SVector<f64, D>>(
     t_out: &[f64],
@@ -328,20 +328,19 @@ pub(crate) fn emit_dense<const D: usize, F: Fn(f64) -> SVector<f64, D>>(
     interp: impl FnOnce() -> F,
     out: &mut impl FnMut(f64, &SVector<f64, D>),
 ) {
-    if *next >= t_out.len() || t_out[*next] > t_new {
-        return;
-    }
-    // built only for an output time strictly inside the step (Vern6's costs a stage)
-    let mut interp = Some(interp);
-    let mut built = None;
-    while *next < t_out.len() && t_out[*next] <= t_new {
-        let to = t_out[*next];
-        if to == t_new {
-            out(to, y1)
-        } else {
-            let f = built.get_or_insert_with(|| (interp.take().expect("built once"))());
-            out(to, &f((to - t) / h))
+    // times strictly inside the step come from the interpolant, built only if there are any
+    // (Vern6's costs a stage); a time on the step's end is y1 itself. The per-row loop is the
+    // whole cost of a solve with an output row per data sample, so it stays branch-light.
+    let inside = t_out[*next..].partition_point(|&to| to < t_new);
+    if inside > 0 {
+        let f = interp();
+        for &to in &t_out[*next..*next + inside] {
+            out(to, &f((to - t) / h));
         }
+        *next += inside;
+    }
+    if *next < t_out.len() && t_out[*next] == t_new {
+        out(t_new, y1);
         *next += 1;
     }
 }
