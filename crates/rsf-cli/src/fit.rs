@@ -134,7 +134,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
         None => None,
     };
     let wall = start.elapsed().as_secs_f64();
-    print!("{}", summary(&res, mcmc.as_ref(), &per_segment));
+    crate::write_stdout(&summary(&res, mcmc.as_ref(), &per_segment))?;
     eprintln!("rsf fit: {:.2} s", wall);
     if let Some(p) = &a.plot {
         let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
@@ -142,8 +142,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
     }
     if let Some(j) = &a.json {
         let out = Output { data: a.data.display().to_string(), fit: &res, mcmc, per_segment, wall_s: wall };
-        std::fs::write(j, serde_json::to_string_pretty(&out)? + "\n")
-            .with_context(|| format!("writing {}", j.display()))?;
+        crate::output::write_bytes(j, serde_json::to_string_pretty(&out)? + "\n")?;
     }
     Ok(())
 }
@@ -381,13 +380,11 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     if let Some(j) = &a.json {
         let mut v = serde_json::to_value(&d)?;
         v["data"] = serde_json::json!(a.data.display().to_string());
-        std::fs::write(j, serde_json::to_string_pretty(&v)? + "\n")
-            .with_context(|| format!("writing {}", j.display()))?;
+        crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }
     if let Some(r) = &a.report {
         let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        std::fs::write(r, rsf_fit::report::diagnosis_html(&d, &name))
-            .with_context(|| format!("writing {}", r.display()))?;
+        crate::output::write_bytes(r, rsf_fit::report::diagnosis_html(&d, &name))?;
     }
     Ok(())
 }

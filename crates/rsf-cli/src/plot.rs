@@ -22,11 +22,11 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
     let v: Vec<(f64, f64)> = t.iter().copied().zip(sol.slip_rate.iter().copied()).filter(|p| p.1 > 0.0).collect();
     let bottom = Panel::new("", "time (s)", "slip rate V (µm/s)").log_y().with(Series::line(None, v, PALETTE[1]));
     let svg = render_stack(title, &[(top, 320), (bottom, 290)], 900).map_err(|e| anyhow!("{e}"))?;
-    Ok(std::fs::write(path, svg)?)
+    crate::output::write_bytes(path, svg)
 }
 
 /// Data, model and residuals of a fit against load-point displacement (`rsf fit --plot`).
 pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> {
     let svg = rsf_fit::report::fit_svg(r, title).map_err(|e| anyhow!("{e}"))?;
-    Ok(std::fs::write(path, svg)?)
+    crate::output::write_bytes(path, svg)
 }

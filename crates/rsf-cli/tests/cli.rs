@@ -44,6 +44,27 @@ fn simulate_writes_the_specified_csv_and_a_plot() {
     assert!(stderr.contains("steps") && stderr.contains("Jacobians"), "{stderr}");
 }
 
+/// The binary has its own entry point (see main.rs); it still ignores SIGPIPE, so a reader
+/// that stops early ends a long CSV on stdout with success and no message.
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut child = rsf()
+        .args(["simulate", repo().join("examples/step_down.toml").to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut header = String::new();
+    // 25,168 rows (2 MB) cannot fit in the pipe: the writer meets the closed end
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut header).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !stderr.contains("error"), "{:?}: {stderr}", out.status);
+    assert!(header.starts_with("time_s,"), "{header}");
+}
+
 #[test]
 fn method_override_gives_the_same_answer() {
     let p = repo().join("examples/slide_hold_slide.toml");

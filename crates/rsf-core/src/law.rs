@@ -303,9 +303,15 @@ pub trait DynStateLaw: Debug + Send + Sync {
     /// A copy of this law with parameter `name` set to `value` (see
     /// [`StateLaw::set_parameter`]).
     fn with_parameter(&self, name: &str, value: f64) -> Result<std::sync::Arc<dyn DynStateLaw>, String>;
+    /// The law as `Any`, so a solver can recognise a concrete law and call it directly
+    /// (see [`SameLaw`](crate::SameLaw)).
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 impl<L: StateLaw> DynStateLaw for L {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
     #[inline]
     fn rate(&self, s: &StateArgs<f64>) -> f64 {
         self.theta_rate(s)

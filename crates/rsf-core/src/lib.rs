@@ -56,4 +56,6 @@ pub use friction::FrictionForm;
 pub use law::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, NormalStressRecord, Piece, Segment, SegmentEnd, normal_stress_varies};
 pub use model::{Model, ModelError, StateVariable};
-pub use system::{N_GLOBAL, PER_STATE, SpringSlider, n_params, param_index, state_offset};
+pub use system::{
+    DynLaws, LawDispatch, N_GLOBAL, PER_STATE, SameLaw, SpringSlider, n_params, param_index, state_offset,
+};

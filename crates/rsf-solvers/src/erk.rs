@@ -4,8 +4,7 @@
 //! from the pair, and Hairer's stiffness detection for the automatic method.
 
 use crate::ode::{
-    Integrated, IntegrationError, OdeSystem, Reached, StepStats, Tolerances, clip_step, emit_dense, error_norm,
-    initial_step,
+    Integrated, IntegrationError, OdeSystem, Reached, StepStats, Tolerances, clip_step, emit_dense, initial_step,
 };
 use nalgebra::SVector;
 
@@ -49,7 +48,10 @@ pub(crate) trait ExplicitPair {
 /// row (hysteresis: a single step at the border is no trend).
 pub(crate) const STIFF_STEPS: u32 = 15;
 
-/// `y + h Σ_j row_j k_j`: the argument of the stage whose a-row is `row`.
+/// `y + h Σ_j row_j k_j`: the argument of the stage whose a-row is `row`, summed as
+/// `(y + h Σ_{j<last} row_j k_j) + (h row_last) k_last` so that only one multiply-add waits for
+/// the newest slope (the rest is computed while its right-hand side runs: the stages are
+/// latency-bound, and this took 8% off a Vern6 solve).
 #[inline(always)]
 pub(crate) fn stage_arg<const D: usize>(
     y: &SVector<f64, D>,
@@ -57,13 +59,35 @@ pub(crate) fn stage_arg<const D: usize>(
     row: &[f64],
     k: &[SVector<f64, D>],
 ) -> SVector<f64, D> {
-    let mut acc = k[0] * row[0];
-    for (kj, a) in k[1..row.len()].iter().zip(&row[1..]) {
+    let last = row.len() - 1;
+    let mut acc = SVector::<f64, D>::zeros();
+    for (kj, a) in k[..last].iter().zip(&row[..last]) {
         if *a != 0.0 {
             acc += kj * *a;
         }
     }
-    y + acc * h
+    (y + acc * h) + k[last] * (h * row[last])
+}
+
+/// ln of the RMS error norm of `err` against the component scales (Hairer & Wanner II, IV.4):
+/// ½ ln(mean square), with no square root and the divisions moved off the critical path (the
+/// scales depend on `y0` and `y1` only, known before the last stage's right-hand side). A step
+/// is accepted when it is ≤ 0; a non-finite norm gives +∞.
+#[inline(always)]
+fn ln_error_norm<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    err: &SVector<f64, D>,
+    y0: &SVector<f64, D>,
+    y1: &SVector<f64, D>,
+    tol: &Tolerances,
+) -> f64 {
+    let mut s = 0.0;
+    for i in 0..D {
+        let e = err[i] * (1.0 / sys.error_scale(i, y0[i], y1[i], tol));
+        s += e * e;
+    }
+    let ms = s * (1.0 / D as f64);
+    if ms.is_finite() { 0.5 * ms.ln() } else { f64::INFINITY }
 }
 
 /// Integrates one piece with the pair `P`. `leave_when_stiff` lets the automatic method take
@@ -81,6 +105,7 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
     const { assert!(P::STAGES <= MAX_STAGES && P::STAGES >= 3) };
     let (a, ns) = (P::A, P::STAGES);
     let (beta, safe, facc1, facc2) = (0.04, 0.9, 1.0 / 0.2, 1.0 / 10.0);
+    let ln_safe = f64::ln(safe);
     let expo1 = 1.0 / (P::EMBEDDED_ORDER as f64 + 1.0) - beta * 0.75;
     // DOPRI5's err^expo1 / facold^β, as one exponential of logarithms (two powf calls per step
     // cost as much as a right-hand side of the Slip law)
@@ -120,18 +145,18 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
         for (ki, e) in k[1..ns].iter().zip(&P::E[1..]) {
             err_vec += ki * *e;
         }
-        let err = error_norm(sys, &(err_vec * (h * P::ESTIMATE_SCALE)), &y, &y1, tol);
-        let ln_err = err.ln();
-        if err <= 1.0 {
+        let ln_err = ln_error_norm(sys, &(err_vec * (h * P::ESTIMATE_SCALE)), &y, &y1, tol);
+        if ln_err <= 0.0 {
             let t_new = if last { t1 } else { t + h };
             if let Err(reason) = sys.accepted(t_new, &y1) {
                 return Err(IntegrationError::Stopped { t: t_new, reason });
             }
             stats.accepted += 1;
             emit_dense(t_out, &mut next_out, (t, h, t_new), &y1, || P::dense(&mut k, (t, &y, &y1, h), sys, stats), out);
-            let fac = ((expo1 * ln_err - beta * ln_facold).exp() / safe).clamp(facc2, facc1);
+            // h_new = h / clamp(err^expo1 / facold^β / safe, facc2, facc1), as one exponential
+            let grow = (ln_safe - expo1 * ln_err + beta * ln_facold).exp().clamp(1.0 / facc1, 1.0 / facc2);
             ln_facold = ln_err.max(1e-4f64.ln());
-            let mut h_new = h / fac;
+            let mut h_new = h * grow;
             if reject {
                 h_new = h_new.min(h);
             }
@@ -155,7 +180,7 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
             h = h_new;
         } else {
             stats.rejected += 1;
-            let shrink = if err.is_finite() { ((expo1 * ln_err).exp() / safe).min(facc1) } else { 10.0 };
+            let shrink = if ln_err.is_finite() { ((expo1 * ln_err).exp() / safe).min(facc1) } else { 10.0 };
             h /= shrink;
             reject = true;
         }

@@ -63,7 +63,7 @@ pub use large::{Flow, LargeSystem, LargeTsit5};
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;
-pub use solution::Solution;
+pub use solution::{CsvLayout, Solution};
 pub use solve::{MAX_STATES, OutputTimes, Problem, SolveError, drive, output_times, solve, solve_friction};
 pub use tsit5::Tsit5;
 pub use vern6::Vern6;

@@ -4,7 +4,10 @@ use crate::Solution;
 use crate::ode::{IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 use crate::watch::{StepWatch, WatchOptions};
 use nalgebra::{SMatrix, SVector};
-use rsf_core::{Loading, Model, ModelError, NormalStressRecord, Piece, SpringSlider, normal_stress_varies};
+use rsf_core::{
+    DynLaws, LawDispatch, Loading, Model, ModelError, NormalStressRecord, Piece, SameLaw, SpringSlider,
+    normal_stress_varies,
+};
 use thiserror::Error;
 
 /// Largest number of state variables the solver is compiled for.
@@ -25,6 +28,24 @@ macro_rules! by_dimension {
             8 => $f::<10, $i>($($arg),*),
             0 => Err(SolveError::Model(ModelError::NoState)),
             _ => Err(SolveError::Input(format!("{n} state variables: this build supports at most {MAX_STATES}"))),
+        }
+    }};
+}
+
+/// Evaluates `$body` with `$laws` bound to the fastest route to the model's laws
+/// ([`LawDispatch`]): called directly when every state follows the Slip law, or every state the
+/// Aging law (the lab's one- and two-state fits, D ≤ 4); through the trait objects otherwise.
+/// Specialising only these keeps the number of compiled integrator copies small.
+macro_rules! with_laws {
+    ($d:expr, $model:expr, $laws:ident => $body:expr) => {{
+        let model: &Model = $model;
+        if let (true, Some($laws)) = ($d <= 4, SameLaw::<rsf_laws::Slip>::of(model)) {
+            $body
+        } else if let (true, Some($laws)) = ($d <= 4, SameLaw::<rsf_laws::Aging>::of(model)) {
+            $body
+        } else {
+            let $laws = DynLaws;
+            $body
         }
     }};
 }
@@ -179,17 +200,18 @@ pub enum SolveError {
 }
 
 /// The spring-slider as an [`OdeSystem`] of dimension `D = N + 2`.
-struct SliderOde<'a, const D: usize> {
+struct SliderOde<'a, const D: usize, L> {
     sys: SpringSlider<'a>,
     ln_v_max: f64,
     watch: Option<&'a StepWatch>,
+    laws: &'a L,
 }
 
-impl<const D: usize> OdeSystem<D> for SliderOde<'_, D> {
+impl<const D: usize, L: LawDispatch> OdeSystem<D> for SliderOde<'_, D, L> {
     #[inline]
     fn rhs(&self, t: f64, y: &SVector<f64, D>) -> SVector<f64, D> {
         let mut dy = SVector::<f64, D>::zeros();
-        self.sys.rhs(t, y.as_slice(), dy.as_mut_slice());
+        self.sys.rhs_with(self.laws, t, y.as_slice(), dy.as_mut_slice());
         dy
     }
     fn rhs_and_jacobian(&self, t: f64, y: &SVector<f64, D>) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
@@ -373,11 +395,13 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
         }
     };
 
-    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, watch.as_ref(), |piece, t, y| {
-        record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y);
-        if let (Some(w), true) = (&watch, problem.watch.peak_slip_rate) {
-            sol.peak_slip_rate.push(w.row(t, y[0]));
-        }
+    let stats = with_laws!(D, model, laws => {
+        drive_slider::<D, I, _>(problem, &pieces, &t_out, y, alg, watch.as_ref(), &laws, |piece, t, y| {
+            record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y);
+            if let (Some(w), true) = (&watch, problem.watch.peak_slip_rate) {
+                sol.peak_slip_rate.push(w.row(t, y[0]));
+            }
+        })
     })?;
     sol.stats = stats;
     if let Some(w) = watch {
@@ -485,13 +509,15 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
 }
 
 /// [`drive`] for the plain spring-slider of `problem`.
-fn drive_slider<const D: usize, I: Integrator>(
+#[allow(clippy::too_many_arguments)]
+fn drive_slider<const D: usize, I: Integrator, L: LawDispatch>(
     problem: &Problem,
     pieces: &[Piece],
     t_out: &[f64],
     y: SVector<f64, D>,
     alg: &I,
     watch: Option<&StepWatch>,
+    laws: &L,
     record: impl FnMut(&Piece, f64, &SVector<f64, D>),
 ) -> Result<StepStats, SolveError> {
     let ln_v_max = problem.max_slip_rate.ln();
@@ -502,7 +528,7 @@ fn drive_slider<const D: usize, I: Integrator>(
         t_out,
         y,
         alg,
-        |sys| SliderOde::<D> { sys, ln_v_max, watch },
+        |sys| SliderOde::<D, L> { sys, ln_v_max, watch, laws },
         problem.max_slip_rate,
         &mut stats,
         record,
@@ -533,15 +559,18 @@ fn friction_dim<const D: usize, I: Integrator>(
         + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
     let b: Vec<f64> = model.states.iter().map(|s| s.b).collect();
     let mut mu = Vec::with_capacity(t_out.len());
-    let stats = drive_slider::<D, I>(problem, &pieces, &t_out, y, alg, None, |piece, _, y| {
-        mu.push(if classic {
-            let mut t = c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
-            if model.eta != 0.0 {
-                t += model.eta * y[0].exp();
-            }
-            t + model.slip_trend * y[D - 1]
-        } else {
-            SpringSlider::new(model, piece.v).stress(y.as_slice())
+    let stats = with_laws!(D, model, laws => {
+        drive_slider::<D, I, _>(problem, &pieces, &t_out, y, alg, None, &laws, |piece, _, y| {
+            mu.push(if classic {
+                let mut t =
+                    c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
+                if model.eta != 0.0 {
+                    t += model.eta * y[0].exp();
+                }
+                t + model.slip_trend * y[D - 1]
+            } else {
+                SpringSlider::new(model, piece.v).stress(y.as_slice())
+            })
         })
     })?;
     Ok((mu, stats))

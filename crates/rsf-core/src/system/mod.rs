@@ -1,9 +1,11 @@
 //! The spring-slider ODE in log variables, with its exact Jacobian.
 
+mod dispatch;
 mod sensitivity;
 #[cfg(test)]
 mod tests;
 
+pub use dispatch::{DynLaws, LawDispatch, SameLaw};
 pub use sensitivity::{N_GLOBAL, PER_STATE, n_params, param_index, state_offset};
 
 use crate::law::{LnArgs, StateArgs};
@@ -139,6 +141,12 @@ impl<'a> SpringSlider<'a> {
     /// the Slip law the only transcendental call left is V = e^x.
     #[inline]
     pub fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        self.rhs_with(&DynLaws, t, y, dy)
+    }
+
+    /// [`rhs`](Self::rhs) reaching the laws through `laws` (see [`LawDispatch`]).
+    #[inline]
+    pub fn rhs_with(&self, laws: &impl LawDispatch, t: f64, y: &[f64], dy: &mut [f64]) {
         let m = self.model;
         let n = m.states.len();
         let x = y[0];
@@ -169,7 +177,7 @@ impl<'a> SpringSlider<'a> {
                 normal_stress: s * sr,
                 normal_stress_rate: self.s_rate * sr,
             };
-            let mut zdot = st.law.ln_rate(&la);
+            let mut zdot = laws.ln_rate(m, i, &la);
             if st.alpha != 0.0 && log_rate != 0.0 {
                 zdot -= st.alpha / st.b * log_rate;
             }
