@@ -24,7 +24,12 @@ done
 # timed around subprocess.run (a `$(date)` pair in bash adds two forks, about 1 ms), beside
 # /bin/true (the machine's process floor) in the same go, against scipy Radau's solve of the
 # same protocol at rtol 1e-8 from the peers run above
+# timed as installed (`install`, as `cargo install` copies it): a binary the linker has just
+# written sits in the page cache in small pieces and starts 0.1–0.15 ms slower until the cache
+# is refilled (measured here; the same file after `echo 1 > /proc/sys/vm/drop_caches`, or any
+# copy, starts at the installed speed)
 cargo build --release -q -p rsf-cli
+install -m 755 target/release/rsf "$OUT/rsf"
 "$PY" - "$OUT" <<'PYEOF'
 import json, statistics, subprocess, sys, time
 out = sys.argv[1]
@@ -35,7 +40,7 @@ def median_ms(cmd, n=51):
         subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
         ts.append(time.perf_counter() - t)
     return statistics.median(ts) * 1e3
-rsf = median_ms(["target/release/rsf", "simulate", f"{out}/seed.toml", "-o", f"{out}/seed.csv"])
+rsf = median_ms([f"{out}/rsf", "simulate", f"{out}/seed.toml", "-o", f"{out}/seed.csv"])
 floor = median_ms(["/bin/true"])
 runs = json.load(open(f"{out}/seed_peers.json"))["runs"]
 radau = [r for r in runs if r["method"] == "Radau" and abs(r["rtol"] - 1e-8) < 1e-20 and "wall_s" in r][0]["wall_s"]

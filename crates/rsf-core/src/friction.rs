@@ -60,9 +60,15 @@ pub(crate) fn asinh_exp_and_slope(l: f64) -> (f64, f64) {
 impl FrictionForm {
     /// Friction at `x = ln V` for state contribution `psi`.
     pub fn friction(self, mu0: f64, a: f64, v0: f64, x: f64, psi: f64) -> f64 {
+        self.friction_ln(mu0, a, v0.ln(), x, psi)
+    }
+
+    /// [`friction`](Self::friction) given `ln_v0 = ln V0`, for callers that evaluate it often
+    /// with one V0 (a solution's rows).
+    pub fn friction_ln(self, mu0: f64, a: f64, ln_v0: f64, x: f64, psi: f64) -> f64 {
         match self {
-            Self::Classic => mu0 + a * (x - v0.ln()) + psi,
-            Self::Regularized => a * asinh_exp_and_slope(x - (2.0 * v0).ln() + (mu0 + psi) / a).0,
+            Self::Classic => mu0 + a * (x - ln_v0) + psi,
+            Self::Regularized => a * asinh_exp_and_slope(x - (std::f64::consts::LN_2 + ln_v0) + (mu0 + psi) / a).0,
         }
     }
 

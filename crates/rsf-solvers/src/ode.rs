@@ -331,6 +331,10 @@ pub(crate) fn emit_dense<const D: usize, F: Fn(f64) -> SVector<f64, D>>(
     // times strictly inside the step come from the interpolant, built only if there are any
     // (Vern6's costs a stage); a time on the step's end is y1 itself. The per-row loop is the
     // whole cost of a solve with an output row per data sample, so it stays branch-light.
+    // most steps hold no output time: one comparison decides that before any search
+    if t_out.get(*next).is_none_or(|&to| to > t_new) {
+        return;
+    }
     let inside = t_out[*next..].partition_point(|&to| to < t_new);
     if inside > 0 {
         let f = interp();

@@ -381,6 +381,8 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
     let watching = problem.watch.peak_slip_rate || problem.watch.event_slip_rate.is_some();
     let watch = watching.then(|| StepWatch::new(&problem.watch));
 
+    // τ/σ does not depend on the load point or σ: one system evaluates every row's friction
+    let friction = SpringSlider::new(model, 1.0);
     let record = |sol: &mut Solution, sys: &SpringSlider, piece: &Piece, t: f64, y: &SVector<f64, D>| {
         sol.time.push(t);
         sol.load_point.push(piece.load_point(t));
@@ -397,7 +399,7 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
 
     let stats = with_laws!(D, model, laws => {
         drive_slider::<D, I, _>(problem, &pieces, &t_out, y, alg, watch.as_ref(), &laws, |piece, t, y| {
-            record(&mut sol, &SpringSlider::new(model, piece.v), piece, t, y);
+            record(&mut sol, &friction, piece, t, y);
             if let (Some(w), true) = (&watch, problem.watch.peak_slip_rate) {
                 sol.peak_slip_rate.push(w.row(t, y[0]));
             }
@@ -537,8 +539,8 @@ fn drive_slider<const D: usize, I: Integrator, L: LawDispatch>(
 }
 
 /// Friction only (the spring stress at the output times): the lean path for likelihoods and
-/// misfits, which need nothing else. Same integration as [`solve`]; the stress is evaluated
-/// as a precomputed linear form in (ln V, ln θ_i) for the classic friction law.
+/// misfits, which need nothing else. Same integration and the same friction values as
+/// [`solve`].
 pub fn solve_friction<I: Integrator>(problem: &Problem, alg: &I) -> Result<(Vec<f64>, StepStats), SolveError> {
     by_dimension!(problem, friction_dim::<I>(problem, alg))
 }
@@ -552,25 +554,12 @@ fn friction_dim<const D: usize, I: Integrator>(
     let pieces = problem.pieces()?;
     let t_out = output_times(problem, &pieces)?;
     let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
-    let classic = model.form == rsf_core::FrictionForm::Classic;
-    // τ = c + a x + Σ b_i z_i + η e^x + g δ
-    let lv0 = model.v0.ln();
-    let c = model.mu0 - model.a * lv0
-        + model.states.iter().map(|s| s.b * (lv0 - (s.law.theta_scale() * s.dc).ln())).sum::<f64>();
-    let b: Vec<f64> = model.states.iter().map(|s| s.b).collect();
+    // τ/σ = f + ηV + gδ with the logarithms of V0 and s_i Dc_i taken once (SpringSlider::stress)
+    let friction = SpringSlider::new(model, 1.0);
     let mut mu = Vec::with_capacity(t_out.len());
     let stats = with_laws!(D, model, laws => {
-        drive_slider::<D, I, _>(problem, &pieces, &t_out, y, alg, None, &laws, |piece, _, y| {
-            mu.push(if classic {
-                let mut t =
-                    c + model.a * y[0] + b.iter().zip(&y.as_slice()[1..D - 1]).map(|(b, z)| b * z).sum::<f64>();
-                if model.eta != 0.0 {
-                    t += model.eta * y[0].exp();
-                }
-                t + model.slip_trend * y[D - 1]
-            } else {
-                SpringSlider::new(model, piece.v).stress(y.as_slice())
-            })
+        drive_slider::<D, I, _>(problem, &pieces, &t_out, y, alg, None, &laws, |_, _, y| {
+            mu.push(friction.stress(y.as_slice()))
         })
     })?;
     Ok((mu, stats))

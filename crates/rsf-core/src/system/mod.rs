@@ -55,6 +55,11 @@ pub struct SpringSlider<'a> {
     inv_s0: f64,
     /// 1/a, for the classic form without radiation damping, where dx/dt divides by a.
     inv_a: f64,
+    /// ln V0 and the constant part of Ψ = Σ b_i (ln V0 + z_i − ln(s_i Dc_i)), Σ b_i (ln V0 −
+    /// ln s_i − ln Dc_i): Ψ is then `psi0 + Σ b_i z_i`, with no logarithm per evaluation (a
+    /// solution's rows evaluate it once each).
+    ln_v0: f64,
+    psi0: f64,
 }
 
 /// How many states' Dc a [`SpringSlider`] keeps at hand (more states compute theirs). The right
@@ -70,7 +75,36 @@ impl<'a> SpringSlider<'a> {
             *l = st.dc.ln();
             *i = 1.0 / st.dc;
         }
-        Self { model, v_lp, s0: 1.0, s_rate: 0.0, t0: 0.0, ln_dc, inv_dc, inv_s0: 1.0, inv_a: 1.0 / model.a }
+        let ln_v0 = model.v0.ln();
+        let psi0 = model
+            .states
+            .iter()
+            .enumerate()
+            .map(|(i, st)| {
+                let ln_dc = if i < DC_CACHED { ln_dc[i] } else { st.dc.ln() };
+                let s = st.law.theta_scale();
+                st.b * (ln_v0 - if s == 1.0 { 0.0 } else { s.ln() } - ln_dc)
+            })
+            .sum();
+        Self {
+            model,
+            v_lp,
+            s0: 1.0,
+            s_rate: 0.0,
+            t0: 0.0,
+            ln_dc,
+            inv_dc,
+            inv_s0: 1.0,
+            inv_a: 1.0 / model.a,
+            ln_v0,
+            psi0,
+        }
+    }
+
+    /// The state contribution Ψ = Σ b_i ln(V0 θ_i / (s_i Dc_i)) at `y`.
+    #[inline]
+    fn state_psi(&self, y: &[f64]) -> f64 {
+        self.psi0 + self.model.states.iter().zip(&y[1..]).map(|(s, z)| s.b * z).sum::<f64>()
     }
 
     /// The system during `piece`: its load-point velocity and its normal stress (MPa, relative
@@ -105,8 +139,9 @@ impl<'a> SpringSlider<'a> {
     pub fn stress(&self, y: &[f64]) -> f64 {
         let n = self.model.states.len();
         let m = self.model;
-        let psi = m.psi_from_ln_theta(&y[1..=n]);
-        m.form.friction(m.mu0, m.a, m.v0, y[0], psi) + m.eta * y[0].exp() + m.slip_trend * y[n + 1]
+        let f = m.form.friction_ln(m.mu0, m.a, self.ln_v0, y[0], self.state_psi(y));
+        let damping = if m.eta != 0.0 { m.eta * y[0].exp() } else { 0.0 };
+        f + damping + m.slip_trend * y[n + 1]
     }
 
     /// `(s, ṡ/s)` at time `t`: normal stress over σ_ref, and its logarithmic rate (1/s).
@@ -202,7 +237,7 @@ impl<'a> SpringSlider<'a> {
         match self.model.form {
             // the classic form does not need Ψ for its derivatives
             crate::FrictionForm::Classic => 0.0,
-            _ => self.model.psi_from_ln_theta(&y[1..=self.model.states.len()]),
+            _ => self.state_psi(y),
         }
     }
 
@@ -312,7 +347,7 @@ impl<'a> SpringSlider<'a> {
         if m.imposed_velocity() {
             return Ok(());
         }
-        let psi = m.psi_from_ln_theta(&y[1..=n]);
+        let psi = self.state_psi(y);
         let target = mu_plus - m.slip_trend * y[n + 1];
         let fail = |why: String| {
             format!(
