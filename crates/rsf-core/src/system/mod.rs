@@ -196,7 +196,10 @@ impl<'a> SpringSlider<'a> {
             m.stiffness * (self.v_lp - v) / s
         };
         let sr = m.sigma_ref();
-        let mut psi_rate = 0.0;
+        // the sums start at −0.0, the identity of IEEE addition, so that no addition to zero
+        // sits on the latency-bound chain; `psi_rate_a` = Σ (b_i/a) d ln θ_i/dt has the 1/a of
+        // the classic form's dx/dt applied to each term, off the chain
+        let (mut psi_rate, mut psi_rate_a) = (-0.0, -0.0);
         for (i, st) in m.states.iter().enumerate() {
             let (ln_dc, inv_dc) =
                 if i < DC_CACHED { (self.ln_dc[i], self.inv_dc[i]) } else { (st.dc.ln(), 1.0 / st.dc) };
@@ -218,12 +221,13 @@ impl<'a> SpringSlider<'a> {
             }
             dy[1 + i] = zdot;
             psi_rate += st.b * zdot;
+            psi_rate_a += (st.b * self.inv_a) * zdot;
         }
         dy[0] = if imposed {
             0.0
         } else if log_rate == 0.0 && m.eta == 0.0 && m.form == crate::FrictionForm::Classic {
-            // ∂f/∂x = a, ∂f/∂Ψ = 1
-            (tau_rate - m.slip_trend * v - psi_rate) * self.inv_a
+            // ∂f/∂x = a, ∂f/∂Ψ = 1: dx/dt = (τ̇ − gV − Ψ̇)/a
+            (tau_rate * self.inv_a - (m.slip_trend * self.inv_a) * v) - psi_rate_a
         } else {
             let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
             let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
