@@ -20,7 +20,7 @@ for c in seed hold stickslip two_state; do
 done
 "$PY" benches/work_precision/plot.py docs/figures "${pairs[@]}"
 # the whole `rsf simulate` process (start, TOML, solve, CSV) on the seed-like protocol of 71
-# segments with output every 50 s (rtol 1e-8, atol 1e-12, method auto), median of 51 runs
+# segments with output every 50 s (rtol 1e-8, atol 1e-12, method auto), median of 101 runs
 # timed around subprocess.run (a `$(date)` pair in bash adds two forks, about 1 ms), beside
 # /bin/true (the machine's process floor) in the same go, against scipy Radau's solve of the
 # same protocol at rtol 1e-8 from the peers run above
@@ -33,7 +33,7 @@ install -m 755 target/release/rsf "$OUT/rsf"
 "$PY" - "$OUT" <<'PYEOF'
 import json, statistics, subprocess, sys, time
 out = sys.argv[1]
-def median_ms(cmd, n=51):
+def median_ms(cmd, n=101):
     ts = []
     for _ in range(n):
         t = time.perf_counter()
@@ -45,6 +45,6 @@ floor = median_ms(["/bin/true"])
 runs = json.load(open(f"{out}/seed_peers.json"))["runs"]
 radau = [r for r in runs if r["method"] == "Radau" and abs(r["rtol"] - 1e-8) < 1e-20 and "wall_s" in r][0]["wall_s"]
 open(f"{out}/process_ms.txt", "w").write(f"{rsf:.3f} {floor:.3f}\n")
-print(f"rsf simulate process (seed.toml, median of 51): {rsf:.2f} ms (/bin/true {floor:.2f} ms); "
+print(f"rsf simulate process (seed.toml, median of 101): {rsf:.2f} ms (/bin/true {floor:.2f} ms); "
       f"scipy Radau solve at rtol 1e-8: {radau * 1e3:.0f} ms; ratio {radau * 1e3 / rsf:.0f}x")
 PYEOF

@@ -88,6 +88,7 @@ fn both_routes_reach_the_law_with_the_same_arguments() {
         v_dc: 0.3f64.exp() / 3.0,
         z: 1.2,
         dc: 3.0,
+        inv_dc: 1.0 / 3.0,
         ln_dc: 3f64.ln(),
         b: 0.007,
         stress_rate: 0.0,

@@ -61,6 +61,9 @@ pub struct LnArgs {
     pub z: f64,
     /// Dc, µm.
     pub dc: f64,
+    /// 1/Dc, 1/µm (so that a law can form V·(…/Dc) with V last: V comes from an exponential
+    /// at the end of the right-hand side's latency chain).
+    pub inv_dc: f64,
     /// ln Dc.
     pub ln_dc: f64,
     /// b (dimensionless).
@@ -83,6 +86,7 @@ impl LnArgs {
             v_dc: v / dc,
             z,
             dc,
+            inv_dc: 1.0 / dc,
             ln_dc: dc.ln(),
             b,
             stress_rate: 0.0,

@@ -85,7 +85,8 @@ impl StateLaw for Slip {
     }
     /// −(V/Dc) ln Ω with ln Ω = x + z − ln Dc: no transcendental call at all.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        -s.v_dc * (s.x + s.z - s.ln_dc)
+        // −(V/Dc) ln Ω, V multiplied last (it arrives last)
+        -s.v * (s.inv_dc * (s.x + s.z - s.ln_dc))
     }
     /// Hand-derived: with Ω = Vθ/Dc, ∂G/∂V = −(θ/Dc)(ln Ω + 1), ∂G/∂θ = −(V/Dc)(ln Ω + 1),
     /// ∂G/∂Dc = (Ω/Dc)(ln Ω + 1).
@@ -131,7 +132,7 @@ impl StateLaw for KatoTullis {
     }
     /// e^(−V/Vc − z) − (V/Dc) ln Ω: one exponential instead of three calls.
     fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
-        (-s.v / self.vc - s.z).exp() - s.v_dc * (s.x + s.z - s.ln_dc)
+        (-s.v / self.vc - s.z).exp() - s.v * (s.inv_dc * (s.x + s.z - s.ln_dc))
     }
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         vec![("vc", self.vc)]

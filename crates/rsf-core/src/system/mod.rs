@@ -209,6 +209,7 @@ impl<'a> SpringSlider<'a> {
                 v_dc: v * inv_dc,
                 z: y[1 + i],
                 dc: st.dc,
+                inv_dc,
                 ln_dc,
                 b: st.b,
                 stress_rate: tau_rate,
