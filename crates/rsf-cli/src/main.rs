@@ -114,7 +114,10 @@ impl DataArgs {
     }
 }
 
+// each subcommand's arguments are built only when it runs: building all of them (about two
+// hundred, with their help) took 0.1 ms of a 2.4 ms `rsf simulate`
 #[derive(Subcommand)]
+#[command(defer = true)]
 enum Command {
     /// Diagnose a record: fit a baseline, try extensions (other law, second state variable,
     /// cut-off velocity, slip trend, stiffness), name the cause and measure the gain.
