@@ -65,6 +65,7 @@ impl FrictionForm {
 
     /// [`friction`](Self::friction) given `ln_v0 = ln V0`, for callers that evaluate it often
     /// with one V0 (a solution's rows).
+    #[inline]
     pub fn friction_ln(self, mu0: f64, a: f64, ln_v0: f64, x: f64, psi: f64) -> f64 {
         match self {
             Self::Classic => mu0 + a * (x - ln_v0) + psi,
