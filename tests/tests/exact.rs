@@ -103,7 +103,13 @@ fn simulations_start_on_and_reach_steady_state() {
         let p = problem(m.clone(), 1.0, &[(1.0, 200.0)], 1.0);
         let (e, i) = both(&p, 1e-10);
         for sol in [&e, &i] {
-            assert_eq!(sol.mu[0], mu_i, "{law}: first row is not the steady state");
+            // the rows' friction is the same formula with its constants gathered (a linear form
+            // in ln V, ln θ): equal to the last few bits
+            assert!(
+                (sol.mu[0] - mu_i).abs() <= 4.0 * f64::EPSILON * mu_i.abs(),
+                "{law}: first row {} is not the steady state {mu_i}",
+                sol.mu[0]
+            );
             let drift = sol.mu.iter().map(|x| (x - mu_i).abs()).fold(0.0, f64::max);
             assert!(drift < 1e-11, "{law} {}: drift {drift:e} while loaded at v_init", sol.method);
         }
