@@ -102,17 +102,23 @@ impl CsvLayout {
         let mut buf = zmij::Buffer::new();
         let mut ibuf = itoa::Buffer::new();
         let mut line = Line { buf: [0; 512], len: 0 };
-        for r in range {
-            for (j, x) in [sol.time[r], sol.load_point[r], sol.mu[r], sol.slip_rate[r], sol.slip[r]]
-                .into_iter()
-                .chain(sol.theta.iter().map(|t| t[r]))
-                .chain(self.peak.then(|| sol.peak_slip_rate[r]))
-                .chain(self.normal_stress.then(|| sol.normal_stress[r]))
-                .enumerate()
-            {
+        // the columns in order, sliced to the range once (no per-value bounds checks or
+        // iterator chains in the row loop)
+        let mut cols: Vec<&[f64]> = vec![&sol.time, &sol.load_point, &sol.mu, &sol.slip_rate, &sol.slip];
+        cols.extend(sol.theta.iter().map(|t| t.as_slice()));
+        if self.peak {
+            cols.push(&sol.peak_slip_rate);
+        }
+        if self.normal_stress {
+            cols.push(&sol.normal_stress);
+        }
+        let cols: Vec<&[f64]> = cols.into_iter().map(|c| &c[range.clone()]).collect();
+        for r in 0..range.len() {
+            for (j, col) in cols.iter().enumerate() {
                 if j > 0 {
                     line.put(b",", out);
                 }
+                let x = col[r];
                 // integers print without a fraction (0 rather than 0.0); the round trip through
                 // i64 tests integrality without a call to `trunc` (a libm call on baseline x86-64)
                 let i = x as i64;
