@@ -35,7 +35,10 @@ Units everywhere: time s, displacement and Dc µm, velocities µm/s, stiffness k
 stiffness over normal stress: 0.3 MPa/µm at 20 MPa is k = 0.015/µm). Every command prints its
 results (tables) on standard output and progress, timings and warnings on standard error. On
 any error it prints `error: …` naming the file, line and column or field, or the time and
-values of a failed integration, and exits with status 1.
+values of a failed integration, and exits with status 1. Output files (`-o`, `--plot`,
+`--json`, `--report`) are written only after the work succeeds; an existing file is rewritten
+in place and trimmed to its new length, not truncated first (on ext4 a truncate-and-rewrite is
+flushed to disk on close, which cost more than formatting a simulation's CSV).
 
 EOF
 help

@@ -30,7 +30,8 @@ struct Cli {
     command: Command,
 }
 
-/// How to read a measured record.
+// How to read a measured record (a plain comment: as a doc comment, clap would apply it as the
+// about text of every subcommand that flattens it, once subcommands are deferred).
 #[derive(clap::Args, Clone, Debug)]
 struct DataArgs {
     /// Time column (s unless --time-unit).

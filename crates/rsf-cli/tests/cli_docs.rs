@@ -79,3 +79,23 @@ fn every_subcommand_has_a_section() {
         assert!(doc.contains(&format!("$ rsf {cmd} --help")), "docs/cli.md lacks `rsf {cmd} --help`");
     }
 }
+
+/// Each subcommand's own help opens with the summary `rsf --help` lists for it (deferred
+/// subcommands build their arguments late; a flattened argument group must not replace it).
+#[test]
+fn each_subcommand_help_opens_with_its_summary() {
+    let top = help(&[]);
+    for sub in subcommands() {
+        let listed = top
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(sub.as_str()))
+            .map(|l| l.trim_start()[sub.len()..].trim().to_string())
+            .unwrap();
+        let own = help(&[sub.as_str()]);
+        let first = own.lines().next().unwrap_or_default().trim_end_matches('.');
+        assert!(
+            listed.starts_with(first) && !first.is_empty(),
+            "rsf {sub} --help opens with {first:?}, listed as {listed:?}"
+        );
+    }
+}
