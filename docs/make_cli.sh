@@ -38,7 +38,9 @@ any error it prints `error: …` naming the file, line and column or field, or t
 values of a failed integration, and exits with status 1. Output files (`-o`, `--plot`,
 `--json`, `--report`) are written only after the work succeeds; an existing file is rewritten
 in place and trimmed to its new length, not truncated first (on ext4 a truncate-and-rewrite is
-flushed to disk on close, which cost more than formatting a simulation's CSV).
+flushed to disk on close, which cost more than formatting a simulation's CSV). A run killed
+while it writes can therefore leave the start of the new output followed by the end of the
+old one; run it again.
 
 EOF
 help

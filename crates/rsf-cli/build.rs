@@ -8,8 +8,8 @@
 //! against 0.85 ms). Rust's standard library needs only the unwinder from it, which GCC ships
 //! as the static `libgcc_eh.a` (what `gcc -static-libgcc` links). With it linked whole, no
 //! symbol is left for `libgcc_s`, and `--as-needed` (rustc's default) drops the library.
-//! Panics unwind as before. Elsewhere, or when the toolchain has no `libgcc_eh.a` (a
-//! clang-only system), nothing changes; `RSF_DYNAMIC_LIBGCC=1` turns it off.
+//! Panics unwind as before. Elsewhere, when cross-compiling, or when the toolchain has no
+//! `libgcc_eh.a` (a clang-only system), nothing changes; `RSF_DYNAMIC_LIBGCC=1` turns it off.
 
 use std::path::Path;
 use std::process::Command;
@@ -20,7 +20,9 @@ fn main() {
     let linux_gnu = std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux")
         && std::env::var("CARGO_CFG_TARGET_ENV").as_deref() == Ok("gnu");
     let static_crt = std::env::var("CARGO_CFG_TARGET_FEATURE").is_ok_and(|f| f.split(',').any(|x| x == "crt-static"));
-    if !linux_gnu || static_crt || std::env::var_os("RSF_DYNAMIC_LIBGCC").is_some() {
+    // the probe below asks the host's C compiler, so only a native build uses it
+    let native = std::env::var("HOST").ok() == std::env::var("TARGET").ok();
+    if !linux_gnu || !native || static_crt || std::env::var_os("RSF_DYNAMIC_LIBGCC").is_some() {
         return;
     }
     // the C compiler rustc links with (`cc` by default) tells where its libgcc_eh.a is; it

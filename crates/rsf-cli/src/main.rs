@@ -352,7 +352,7 @@ max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error
 /// tests, whose harness has its own `main`, an ordinary function.
 #[cfg_attr(not(test), unsafe(export_name = "main"))]
 #[cfg_attr(test, allow(dead_code))]
-pub extern "C" fn rsf_main(_argc: std::ffi::c_int, _argv: *const *const std::ffi::c_char) -> std::ffi::c_int {
+pub extern "C" fn rsf_main(argc: std::ffi::c_int, argv: *const *const std::ffi::c_char) -> std::ffi::c_int {
     #[cfg(unix)]
     // SAFETY: setting a signal's disposition to SIG_IGN, as Rust's own start-up does
     unsafe {
@@ -360,14 +360,38 @@ pub extern "C" fn rsf_main(_argc: std::ffi::c_int, _argv: *const *const std::ffi
     }
     // a panic has printed its message through the hook; unwinding must stop here, before
     // the C frame
-    match std::panic::catch_unwind(|| run(Cli::parse())) {
-        Ok(Ok(())) => 0,
-        Ok(Err(e)) => {
-            eprintln!("error: {e:#}");
-            1
-        }
-        Err(_) => 101,
+    let outcome = std::panic::catch_unwind(|| run(Cli::parse_from(arguments(argc, argv))));
+    let (code, err) = match outcome {
+        Ok(Ok(())) => (0, None),
+        Ok(Err(e)) => (1, Some(e)),
+        Err(_) => (101, None),
+    };
+    if let Some(e) = err {
+        use std::io::Write;
+        // eprintln! would panic on a closed stderr, and a panic here cannot unwind
+        let _ = writeln!(std::io::stderr(), "error: {e:#}");
     }
+    code
+}
+
+/// The command line from C's `argv`: std's own copy of the arguments is filled by its start-up
+/// routine, or by glibc alone, so it would be empty on other Unix systems.
+#[cfg(unix)]
+fn arguments(argc: std::ffi::c_int, argv: *const *const std::ffi::c_char) -> Vec<std::ffi::OsString> {
+    use std::os::unix::ffi::OsStrExt;
+    (0..argc.max(0) as usize)
+        .map(|i| {
+            // SAFETY: C guarantees argv[0..argc] are valid NUL-terminated strings
+            let arg = unsafe { std::ffi::CStr::from_ptr(*argv.add(i)) };
+            std::ffi::OsStr::from_bytes(arg.to_bytes()).to_owned()
+        })
+        .collect()
+}
+
+/// The command line (Windows: std reads it from the process, whatever the C runtime did).
+#[cfg(not(unix))]
+fn arguments(_argc: std::ffi::c_int, _argv: *const *const std::ffi::c_char) -> Vec<std::ffi::OsString> {
+    std::env::args_os().collect()
 }
 
 /// Writes to standard output and flushes it (nothing flushes it at exit: see the module

@@ -7,8 +7,11 @@
 //! that replace files without `fsync`. For the 200 kB CSV of the seed protocol that flush cost
 //! 0.26–0.33 ms per run, more than formatting the numbers, and re-running a simulation into
 //! the same file is the common case. Overwriting in place leaves the bytes in the page cache
-//! (10 µs for the same write). A failed write still returns an error naming the file; the file
-//! is trimmed to what was written, as a truncating write would leave it.
+//! (10 µs for the same write). A failed write still returns an error naming the file, and the
+//! file is trimmed to what was written (also when the writer panics), as a truncating write
+//! would leave it. The price: a run killed while it writes (which takes milliseconds even for
+//! a million rows) leaves the start of the new output followed by the end of the old, where a
+//! truncating write would leave a short file; docs/cli.md says so.
 
 use anyhow::{Context, Result};
 use std::fs::{File, OpenOptions};
@@ -16,9 +19,28 @@ use std::io::{self, Write};
 use std::path::Path;
 
 /// A file being rewritten in place, counting the bytes written so the old tail can be cut.
+/// Dropped untrimmed (a panicking writer), it trims itself.
 struct Overwrite {
     file: File,
     written: u64,
+    /// Whether the file is a regular file (pipes, terminals and devices are not trimmed).
+    regular: bool,
+    trimmed: bool,
+}
+
+impl Overwrite {
+    fn trim(&mut self) -> io::Result<()> {
+        self.trimmed = true;
+        if self.regular { self.file.set_len(self.written) } else { Ok(()) }
+    }
+}
+
+impl Drop for Overwrite {
+    fn drop(&mut self) {
+        if !self.trimmed {
+            let _ = self.trim();
+        }
+    }
 }
 
 impl Write for Overwrite {
@@ -42,13 +64,15 @@ pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<(
         .truncate(false)
         .open(path)
         .with_context(|| format!("creating {}", path.display()))?;
-    let regular = file.metadata().map(|m| m.is_file()).unwrap_or(false);
-    let mut out = Overwrite { file, written: 0 };
+    // an open file whose type cannot be read is treated as regular: trimming is then tried,
+    // and a failure is reported
+    let regular = file.metadata().map(|m| m.is_file()).unwrap_or(true);
+    let mut out = Overwrite { file, written: 0, regular, trimmed: false };
     let filled = fill(&mut out).and_then(|()| out.flush());
-    if regular {
-        out.file.set_len(out.written).with_context(|| format!("trimming {}", path.display()))?;
-    }
-    filled.with_context(|| format!("writing {}", path.display()))
+    let trimmed = out.trim();
+    // the writer's own error first: it is the cause
+    filled.with_context(|| format!("writing {}", path.display()))?;
+    trimmed.with_context(|| format!("trimming {}", path.display()))
 }
 
 /// [`write_file`] with bytes already in memory.
@@ -80,6 +104,16 @@ mod tests {
         .unwrap_err();
         assert!(format!("{err:#}").contains("writing") && format!("{err:#}").contains("disk full"), "{err:#}");
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "part");
+        // a panicking writer leaves what it wrote, not the old tail
+        write_bytes(&p, "a long old version of the output\n").unwrap();
+        let caught = std::panic::catch_unwind(|| {
+            let _ = write_file(&p, |w| {
+                w.write_all(b"new")?;
+                panic!("writer failed")
+            });
+        });
+        assert!(caught.is_err());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -167,7 +167,8 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
             }
             reject = false;
             // tested on every STIFF_TEST_EVERY-th accepted step until one looks stiff, then on
-            // every step of the run (Hairer's DOPRI5 tests every NSTIFF-th step the same way)
+            // every step while the stiff run lasts (in the spirit of DOPRI5's NSTIFF; one
+            // non-stiff step ends the run and the sparse testing resumes)
             if leave_when_stiff && (stiff > 0 || stats.accepted.is_multiple_of(STIFF_TEST_EVERY)) {
                 // the argument of the stage before the last (also at c = 1)
                 let y_prev = stage_arg(&y, h, a[ns - 3], &k);

@@ -45,8 +45,9 @@ impl Solution {
     }
 
     /// Writes the CSV `time_s,load_point_um,mu,slip_rate_um_s,slip_um,theta_1_s[,theta_2_s…]`,
-    /// then `peak_slip_rate_um_s` when watched and `normal_stress_mpa` when σ varies (see
-    /// [`CsvLayout`] for the number format), in blocks of rows through one buffer.
+    /// then `peak_slip_rate_um_s` when watched and `normal_stress_mpa` when σ varies: shortest
+    /// round-trip numbers (every value reads back exactly), integers without a fraction, in
+    /// blocks of rows through one buffer.
     pub fn write_csv<W: std::io::Write>(&self, mut w: W) -> std::io::Result<()> {
         let layout = CsvLayout::of(self);
         let mut buf = Vec::with_capacity(1 << 16);
@@ -66,24 +67,24 @@ impl Solution {
 /// (`zmij`: exact, and fast enough that writing does not dominate a solve), integers without
 /// a fraction.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CsvLayout {
+pub(crate) struct CsvLayout {
     /// Number of θ columns.
-    pub n_theta: usize,
+    pub(crate) n_theta: usize,
     /// Whether there is a `peak_slip_rate_um_s` column.
-    pub peak: bool,
+    pub(crate) peak: bool,
     /// Whether there is a `normal_stress_mpa` column.
-    pub normal_stress: bool,
+    pub(crate) normal_stress: bool,
 }
 
 impl CsvLayout {
     /// The layout of `sol`'s rows.
-    pub fn of(sol: &Solution) -> Self {
+    pub(crate) fn of(sol: &Solution) -> Self {
         let full = |v: &Vec<f64>| !v.is_empty() && v.len() == sol.len();
         Self { n_theta: sol.theta.len(), peak: full(&sol.peak_slip_rate), normal_stress: full(&sol.normal_stress) }
     }
 
     /// Appends the header line.
-    pub fn header(&self, out: &mut Vec<u8>) {
+    pub(crate) fn header(&self, out: &mut Vec<u8>) {
         out.extend_from_slice(b"time_s,load_point_um,mu,slip_rate_um_s,slip_um");
         for i in 0..self.n_theta {
             out.extend_from_slice(format!(",theta_{}_s", i + 1).as_bytes());
@@ -98,7 +99,7 @@ impl CsvLayout {
     }
 
     /// Appends rows `range` of `sol` (which must have this layout).
-    pub fn rows(&self, sol: &Solution, range: std::ops::Range<usize>, out: &mut Vec<u8>) {
+    pub(crate) fn rows(&self, sol: &Solution, range: std::ops::Range<usize>, out: &mut Vec<u8>) {
         let mut buf = zmij::Buffer::new();
         let mut ibuf = itoa::Buffer::new();
         let mut line = Line { buf: [0; 512], len: 0 };
@@ -174,6 +175,9 @@ impl Line {
                 d[n - 16..n].copy_from_slice(&s[n - 16..]);
             }
             _ => {
+                // longer than any number: hand over the row so far first, to keep the order
+                out.extend_from_slice(&self.buf[..self.len]);
+                self.len = 0;
                 out.extend_from_slice(s);
                 return;
             }

@@ -2,11 +2,11 @@
 
 use crate::Solution;
 use crate::ode::{IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
+use crate::route::{DIRECT_MAX_STATES, LawRoute, law_route};
 use crate::watch::{StepWatch, WatchOptions};
 use nalgebra::{SMatrix, SVector};
 use rsf_core::{
-    DynLaws, LawDispatch, Loading, Model, ModelError, NormalStressRecord, Piece, SameLaw, SpringSlider,
-    normal_stress_varies,
+    DynLaws, LawDispatch, Loading, Model, ModelError, NormalStressRecord, Piece, SpringSlider, normal_stress_varies,
 };
 use thiserror::Error;
 
@@ -32,17 +32,20 @@ macro_rules! by_dimension {
     }};
 }
 
-/// Evaluates `$body` with `$laws` bound to the fastest route to the model's laws
-/// ([`LawDispatch`]): called directly when every state follows the Slip law, or every state the
-/// Aging law (the lab's one- and two-state fits, D ≤ 4); through the trait objects otherwise.
-/// Specialising only these keeps the number of compiled integrator copies small.
+/// Evaluates `$body` with `$laws` bound to the route to the model's laws that `law_route`
+/// picks ([`LawDispatch`]). `$d` is the const dimension: the direct branches are compiled only
+/// for the dimensions they can serve (N ≤ `DIRECT_MAX_STATES`).
 macro_rules! with_laws {
     ($d:expr, $model:expr, $laws:ident => $body:expr) => {{
-        let model: &Model = $model;
-        if let (true, Some($laws)) = ($d <= 4, SameLaw::<rsf_laws::Slip>::of(model)) {
-            $body
-        } else if let (true, Some($laws)) = ($d <= 4, SameLaw::<rsf_laws::Aging>::of(model)) {
-            $body
+        if $d <= DIRECT_MAX_STATES + 2 {
+            match law_route($model) {
+                LawRoute::Slip($laws) => $body,
+                LawRoute::Aging($laws) => $body,
+                LawRoute::Dyn => {
+                    let $laws = DynLaws;
+                    $body
+                }
+            }
         } else {
             let $laws = DynLaws;
             $body
