@@ -151,16 +151,17 @@ fn main() {
         size as f64 / 1e6
     );
 
-    if !scipy {
-        return;
-    }
-    // scipy Radau on the same equations, tolerance and protocol, in the same run
+    // scipy Radau on the same equations, tolerance and protocol, in the same run (the protocol
+    // file is written even with --no-scipy: benches/work_precision/paired.sh reads it)
     let json = format!(
         "{{\"model\": {{\"mu0\": 0.6, \"v0\": 1.0, \"a\": 0.013, \"k\": 0.065, \"states\": [{{\"law\": \"slip\", \"b\": 0.016, \"dc\": 2.07}}]}}, \"v_init\": 3.0, \"segments\": [{}], \"rtol\": 1e-8, \"atol\": 1e-11}}",
         segs.iter().map(|(v, d)| format!("{{\"v\": {v:?}, \"duration\": {d:?}}}")).collect::<Vec<_>>().join(", ")
     );
     let jpath = std::env::temp_dir().join("rsf_bench_protocol.json");
     std::fs::write(&jpath, json).unwrap();
+    if !scipy {
+        return;
+    }
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../../benches/scipy_protocol.py");
     let out = std::process::Command::new("python3").args([script, jpath.to_str().unwrap(), "--repeats", "3"]).output();
     match out {
