@@ -5,6 +5,7 @@
 
 use crate::ode::{
     Integrated, IntegrationError, OdeSystem, Reached, StepStats, Tolerances, clip_step, emit_dense, initial_step,
+    mean_square_error,
 };
 use nalgebra::SVector;
 
@@ -74,10 +75,8 @@ pub(crate) fn stage_arg<const D: usize>(
     (y + acc * h) + k[last] * (h * row[last])
 }
 
-/// ln of the RMS error norm of `err` against the component scales (Hairer & Wanner II, IV.4):
-/// ½ ln(mean square), with no square root and the divisions moved off the critical path (the
-/// scales depend on `y0` and `y1` only, known before the last stage's right-hand side). A step
-/// is accepted when it is ≤ 0; a non-finite norm gives +∞.
+/// ln of the RMS error norm ([`mean_square_error`]): ½ ln(mean square), with no square root
+/// on the step's critical path. A step is accepted when it is ≤ 0; a non-finite norm gives +∞.
 #[inline(always)]
 fn ln_error_norm<const D: usize, S: OdeSystem<D>>(
     sys: &S,
@@ -86,12 +85,7 @@ fn ln_error_norm<const D: usize, S: OdeSystem<D>>(
     y1: &SVector<f64, D>,
     tol: &Tolerances,
 ) -> f64 {
-    let mut s = 0.0;
-    for i in 0..D {
-        let e = err[i] * (1.0 / sys.error_scale(i, y0[i], y1[i], tol));
-        s += e * e;
-    }
-    let ms = s * (1.0 / D as f64);
+    let ms = mean_square_error(sys, err, y0, y1, tol);
     if ms.is_finite() { 0.5 * ms.ln() } else { f64::INFINITY }
 }
 

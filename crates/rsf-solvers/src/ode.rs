@@ -250,9 +250,11 @@ pub trait Integrator {
     ) -> Result<Integrated<D>, IntegrationError>;
 }
 
-/// RMS error norm of `err` against the component scales (Hairer & Wanner II, IV.4).
-#[inline]
-pub(crate) fn error_norm<const D: usize, S: OdeSystem<D>>(
+/// Mean square of `err_i / scale_i` over the components (Hairer & Wanner II, IV.4). The scales
+/// depend on `y0` and `y1` only, so their reciprocals can be formed before the error itself is
+/// known (off the latency chain of an explicit step).
+#[inline(always)]
+pub(crate) fn mean_square_error<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     err: &SVector<f64, D>,
     y0: &SVector<f64, D>,
@@ -261,10 +263,22 @@ pub(crate) fn error_norm<const D: usize, S: OdeSystem<D>>(
 ) -> f64 {
     let mut s = 0.0;
     for i in 0..D {
-        let e = err[i] / sys.error_scale(i, y0[i], y1[i], tol);
+        let e = err[i] * (1.0 / sys.error_scale(i, y0[i], y1[i], tol));
         s += e * e;
     }
-    let n = (s / D as f64).sqrt();
+    s * (1.0 / D as f64)
+}
+
+/// RMS error norm of `err` against the component scales; a non-finite norm gives +∞.
+#[inline]
+pub(crate) fn error_norm<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    err: &SVector<f64, D>,
+    y0: &SVector<f64, D>,
+    y1: &SVector<f64, D>,
+    tol: &Tolerances,
+) -> f64 {
+    let n = mean_square_error(sys, err, y0, y1, tol).sqrt();
     if n.is_finite() { n } else { f64::INFINITY }
 }
 
