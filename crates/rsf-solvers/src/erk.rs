@@ -75,20 +75,6 @@ pub(crate) fn stage_arg<const D: usize>(
     (y + acc * h) + k[last] * (h * row[last])
 }
 
-/// ln of the RMS error norm ([`mean_square_error`]): ½ ln(mean square), with no square root
-/// on the step's critical path. A step is accepted when it is ≤ 0; a non-finite norm gives +∞.
-#[inline(always)]
-fn ln_error_norm<const D: usize, S: OdeSystem<D>>(
-    sys: &S,
-    err: &SVector<f64, D>,
-    y0: &SVector<f64, D>,
-    y1: &SVector<f64, D>,
-    tol: &Tolerances,
-) -> f64 {
-    let ms = mean_square_error(sys, err, y0, y1, tol);
-    if ms.is_finite() { 0.5 * ms.ln() } else { f64::INFINITY }
-}
-
 /// Integrates one piece with the pair `P`. `leave_when_stiff` lets the automatic method take
 /// over a stiff stretch with the implicit stepper.
 #[allow(clippy::too_many_arguments)]
@@ -144,7 +130,10 @@ pub(crate) fn integrate<P: ExplicitPair, const D: usize, S: OdeSystem<D>>(
         for (ki, e) in k[1..ns].iter().zip(&P::E[1..]) {
             err_vec += ki * *e;
         }
-        let ln_err = ln_error_norm(sys, &(err_vec * (h * P::ESTIMATE_SCALE)), &y, &y1, tol);
+        // ln of the RMS error norm, ½ ln(mean square): no square root on the critical path; a
+        // step is accepted when it is ≤ 0, and a non-finite norm is +∞
+        let ms = mean_square_error(sys, &(err_vec * (h * P::ESTIMATE_SCALE)), &y, &y1, tol);
+        let ln_err = if ms.is_finite() { 0.5 * ms.ln() } else { f64::INFINITY };
         if ln_err <= 0.0 {
             let t_new = if last { t1 } else { t + h };
             if let Err(reason) = sys.accepted(t_new, &y1) {
