@@ -19,18 +19,11 @@ pub fn shared_data(name: &str) -> Option<PathBuf> {
     if p.exists() { Some(p) } else { None }
 }
 
-/// A numeric CSV with a header row: (column names, columns).
+/// A numeric CSV with a header row naming `time_s`: (column names, columns), read by the one
+/// record reader ([`rsf_record::read_table`]).
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(|s| s.trim().to_string()).collect();
-    let mut cols = vec![Vec::new(); header.len()];
-    for line in lines.filter(|l| !l.trim().is_empty()) {
-        for (c, v) in line.split(',').enumerate() {
-            cols[c].push(v.trim().parse::<f64>().unwrap_or(f64::NAN));
-        }
-    }
-    (header, cols)
+    let t = rsf_record::read_table(path, "time_s").unwrap_or_else(|e| panic!("{e}"));
+    (t.names, t.columns)
 }
 
 /// `cases.json` of the reference set.

@@ -11,18 +11,10 @@ fn cases_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../benches/normal_stress/cases")
 }
 
-/// Columns of the reference CSV by name.
+/// Columns of the reference CSV by name (through the one record reader).
 fn read_csv(path: &std::path::Path) -> std::collections::HashMap<String, Vec<f64>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let names: Vec<String> = lines.next().unwrap().split(',').map(str::to_string).collect();
-    let mut cols: Vec<Vec<f64>> = vec![vec![]; names.len()];
-    for l in lines {
-        for (c, x) in l.split(',').enumerate() {
-            cols[c].push(x.parse().unwrap());
-        }
-    }
-    names.into_iter().zip(cols).collect()
+    let t = rsf_record::read_table(path, "time_s").unwrap_or_else(|e| panic!("{e}"));
+    t.names.into_iter().zip(t.columns).collect()
 }
 
 /// Every method on every reference case (steps up and down, ramps while sliding and during a

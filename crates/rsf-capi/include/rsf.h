@@ -121,10 +121,13 @@ enum RsfStatus rsf_solve_slip_rate(const struct RsfFrictionParams *p,
 
 // Over `n` elements (arrays of length n, caller-owned): friction, ∂f/∂ln V, ∂f/∂Ψ and
 // d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]` (one state
-// variable per element; Ψ = that state's term). Stops at the first bad element and names it.
+// variable per element; Ψ = that state's term). Every input is checked as the one-element
+// calls check it; the first bad element is named (`element i: …` in `rsf_last_error`) and
+// nothing after it is written.
 //
 // # Safety
-// Every pointer must point to `n` valid values (nulls are refused).
+// Every pointer must point to `n` valid values (nulls are refused), and the output arrays
+// must not overlap each other or the inputs.
 enum RsfStatus rsf_batch_rates(uintptr_t n,
                                const struct RsfFrictionParams *fp,
                                const struct RsfStateParams *sp,
@@ -137,10 +140,12 @@ enum RsfStatus rsf_batch_rates(uintptr_t n,
 
 // Over `n` elements: the slip rate of element i from the balance with its own `tau[i]`,
 // `sigma[i]`, `eta[i]` and state (Ψ from `sp[i]`, `ln_theta[i]`); `ln_v` holds the warm
-// starts on entry and the roots on return. Stops at the first element without a root.
+// starts on entry and the roots on return. Stops at the first bad element or element without
+// a root and names it (`element i: …` in `rsf_last_error`).
 //
 // # Safety
-// Every pointer must point to `n` valid values (nulls are refused).
+// Every pointer must point to `n` valid values (nulls are refused), and `ln_v` must not
+// overlap the inputs.
 enum RsfStatus rsf_batch_solve_slip_rate(uintptr_t n,
                                          const struct RsfFrictionParams *fp,
                                          const struct RsfStateParams *sp,

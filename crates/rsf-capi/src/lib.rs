@@ -183,6 +183,63 @@ pub extern "C" fn rsf_last_error() -> *const c_char {
     LAST_ERROR.with(|e| e.borrow().as_ptr())
 }
 
+/// Refuses a non-finite input, naming it.
+fn finite(call: &str, values: &[(&str, f64)]) -> Result<(), RsfStatus> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some((name, v)) => Err(fail(RsfStatus::RsfBadInput, format!("{call}: {name} = {v} is not finite"))),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a result that overflowed (finite inputs far out of range), naming it.
+fn finite_out(call: &str, values: &[(&str, f64)]) -> Result<(), RsfStatus> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some((name, v)) => Err(fail(RsfStatus::RsfBadInput, format!("{call}: {name} = {v}: the inputs are out of range"))),
+        None => Ok(()),
+    }
+}
+
+/// Element `i`'s failure, with the message of the check that refused it.
+fn element(i: usize, st: RsfStatus) -> RsfStatus {
+    fail(st, format!("element {i}: {}", last_message()))
+}
+
+/// `n` elements of `T` at `p`, refused when null or when `n` values cannot be addressed.
+///
+/// # Safety
+/// When non-null, `p` must point to `n` valid values of `T` that nothing writes while the
+/// slice lives (the header's contract: arrays do not overlap).
+unsafe fn input<'a, T>(call: &str, what: &str, p: *const T, n: usize) -> Result<&'a [T], RsfStatus> {
+    if p.is_null() || n > isize::MAX as usize / size_of::<T>().max(1) {
+        return Err(fail(RsfStatus::RsfBadInput, format!("{call}: {what} is null or n = {n} is too large")));
+    }
+    // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n reads and not
+    // written meanwhile by the caller's contract
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// `n` writable elements of `T` at `p`.
+///
+/// # Safety
+/// When non-null, `p` must point to `n` values of `T` that no other slice of the call
+/// overlaps (the header's contract).
+unsafe fn output<'a, T>(call: &str, what: &str, p: *mut T, n: usize) -> Result<&'a mut [T], RsfStatus> {
+    if p.is_null() || n > isize::MAX as usize / size_of::<T>().max(1) {
+        return Err(fail(RsfStatus::RsfBadInput, format!("{call}: {what} is null or n = {n} is too large")));
+    }
+    // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n writes and
+    // not aliased by the caller's contract
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// Runs `f`, turning a refusal into its status (the message is already recorded).
+fn status(f: impl FnOnce() -> Result<(), RsfStatus>) -> RsfStatus {
+    guard(|| match f() {
+        Ok(()) => RsfStatus::RsfOk,
+        Err(st) => st,
+    })
+}
+
 /// Friction f at (ln V, Ψ) and its partials ∂f/∂ln V and ∂f/∂Ψ.
 ///
 /// # Safety
@@ -196,23 +253,18 @@ pub unsafe extern "C" fn rsf_friction(
     df_dln_v: *mut f64,
     df_dpsi: *mut f64,
 ) -> RsfStatus {
-    guard(|| {
-        if p.is_null() || f.is_null() || df_dln_v.is_null() || df_dpsi.is_null() {
-            return fail(RsfStatus::RsfBadInput, "rsf_friction: null pointer".into());
-        }
-        let p = unsafe { &*p };
-        let form = match form_of(p) {
-            Ok(f) => f,
-            Err(s) => return s,
+    const CALL: &str = "rsf_friction";
+    status(|| {
+        // SAFETY: each pointer is checked for null and is one value by the contract above
+        let (p, f, df_dln_v, df_dpsi) = unsafe {
+            (&input(CALL, "p", p, 1)?[0], output(CALL, "f", f, 1)?, output(CALL, "df_dln_v", df_dln_v, 1)?, output(CALL, "df_dpsi", df_dpsi, 1)?)
         };
-        if !(ln_v.is_finite() && psi.is_finite()) {
-            return fail(RsfStatus::RsfBadInput, format!("rsf_friction: ln_v {ln_v}, psi {psi}"));
-        }
+        let form = form_of(p)?;
+        finite(CALL, &[("ln_v", ln_v), ("psi", psi)])?;
         let r = friction(form, p.f0, p.a, p.v0, ln_v, psi);
-        unsafe {
-            (*f, *df_dln_v, *df_dpsi) = (r.value, r.d_ln_v, r.d_psi);
-        }
-        RsfStatus::RsfOk
+        finite_out(CALL, &[("f", r.value), ("df_dln_v", r.d_ln_v), ("df_dpsi", r.d_psi)])?;
+        (f[0], df_dln_v[0], df_dpsi[0]) = (r.value, r.d_ln_v, r.d_psi);
+        Ok(())
     })
 }
 
@@ -222,18 +274,18 @@ pub unsafe extern "C" fn rsf_friction(
 /// `s` and `psi` must be valid pointers (nulls are refused).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rsf_psi(s: *const RsfStateParams, v0: f64, ln_theta: f64, psi: *mut f64) -> RsfStatus {
-    guard(|| {
-        if s.is_null() || psi.is_null() {
-            return fail(RsfStatus::RsfBadInput, "rsf_psi: null pointer".into());
+    const CALL: &str = "rsf_psi";
+    status(|| {
+        // SAFETY: each pointer is checked for null and is one value by the contract above
+        let (s, psi) = unsafe { (&input(CALL, "s", s, 1)?[0], output(CALL, "psi", psi, 1)?) };
+        finite(CALL, &[("v0", v0), ("ln_theta", ln_theta)])?;
+        if !(v0 > 0.0) {
+            return Err(fail(RsfStatus::RsfBadInput, format!("{CALL}: v0 = {v0} must be positive")));
         }
-        let s = unsafe { &*s };
-        match with_law(s, |_, scale| psi_term(s.b, v0, s.dc, scale, ln_theta)) {
-            Ok(v) => {
-                unsafe { *psi = v };
-                RsfStatus::RsfOk
-            }
-            Err(st) => st,
-        }
+        let v = with_law(s, |_, scale| psi_term(s.b, v0, s.dc, scale, ln_theta))?;
+        finite_out(CALL, &[("psi", v)])?;
+        psi[0] = v;
+        Ok(())
     })
 }
 
@@ -248,21 +300,15 @@ pub unsafe extern "C" fn rsf_ln_theta_rate(
     ln_theta: f64,
     rate: *mut f64,
 ) -> RsfStatus {
-    guard(|| {
-        if s.is_null() || rate.is_null() {
-            return fail(RsfStatus::RsfBadInput, "rsf_ln_theta_rate: null pointer".into());
-        }
-        match with_law(unsafe { &*s }, |g, _| g(ln_v, ln_theta)) {
-            Ok(r) if r.is_finite() => {
-                unsafe { *rate = r };
-                RsfStatus::RsfOk
-            }
-            Ok(r) => fail(
-                RsfStatus::RsfBadInput,
-                format!("rsf_ln_theta_rate: not finite ({r}) at ln_v {ln_v}, ln_theta {ln_theta}"),
-            ),
-            Err(st) => st,
-        }
+    const CALL: &str = "rsf_ln_theta_rate";
+    status(|| {
+        // SAFETY: each pointer is checked for null and is one value by the contract above
+        let (s, rate) = unsafe { (&input(CALL, "s", s, 1)?[0], output(CALL, "rate", rate, 1)?) };
+        finite(CALL, &[("ln_v", ln_v), ("ln_theta", ln_theta)])?;
+        let r = with_law(s, |g, _| g(ln_v, ln_theta))?;
+        finite_out(CALL, &[("rate", r)])?;
+        rate[0] = r;
+        Ok(())
     })
 }
 
@@ -281,36 +327,31 @@ pub unsafe extern "C" fn rsf_solve_slip_rate(
     ln_v: *mut f64,
     iterations: *mut i32,
 ) -> RsfStatus {
-    guard(|| {
-        if p.is_null() || ln_v.is_null() {
-            return fail(RsfStatus::RsfBadInput, "rsf_solve_slip_rate: null pointer".into());
+    const CALL: &str = "rsf_solve_slip_rate";
+    status(|| {
+        // SAFETY: each pointer is checked for null and is one value by the contract above
+        let (p, ln_v) = unsafe { (&input(CALL, "p", p, 1)?[0], output(CALL, "ln_v", ln_v, 1)?) };
+        let form = form_of(p)?;
+        finite(CALL, &[("psi", psi), ("tau", tau), ("sigma", sigma), ("eta", eta), ("ln_v_guess", ln_v_guess)])?;
+        let r = solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau, sigma, eta, ln_v_guess).map_err(status_of)?;
+        ln_v[0] = r.ln_v;
+        if !iterations.is_null() {
+            // SAFETY: non-null, and one valid value by the contract above
+            unsafe { *iterations = r.iterations as i32 };
         }
-        let p = unsafe { &*p };
-        let form = match form_of(p) {
-            Ok(f) => f,
-            Err(s) => return s,
-        };
-        match solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau, sigma, eta, ln_v_guess) {
-            Ok(r) => {
-                unsafe {
-                    *ln_v = r.ln_v;
-                    if !iterations.is_null() {
-                        *iterations = r.iterations as i32;
-                    }
-                }
-                RsfStatus::RsfOk
-            }
-            Err(e) => status_of(e),
-        }
+        Ok(())
     })
 }
 
 /// Over `n` elements (arrays of length n, caller-owned): friction, ∂f/∂ln V, ∂f/∂Ψ and
 /// d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]` (one state
-/// variable per element; Ψ = that state's term). Stops at the first bad element and names it.
+/// variable per element; Ψ = that state's term). Every input is checked as the one-element
+/// calls check it; the first bad element is named (`element i: …` in `rsf_last_error`) and
+/// nothing after it is written.
 ///
 /// # Safety
-/// Every pointer must point to `n` valid values (nulls are refused).
+/// Every pointer must point to `n` valid values (nulls are refused), and the output arrays
+/// must not overlap each other or the inputs.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rsf_batch_rates(
     n: usize,
@@ -323,42 +364,49 @@ pub unsafe extern "C" fn rsf_batch_rates(
     df_dpsi: *mut f64,
     ln_theta_rate_out: *mut f64,
 ) -> RsfStatus {
-    guard(|| {
-        let pointers = [fp as usize, sp as usize, ln_v as usize, ln_theta as usize, f as usize, df_dln_v as usize];
-        if n > 0 && (pointers.contains(&0) || df_dpsi.is_null() || ln_theta_rate_out.is_null()) {
-            return fail(RsfStatus::RsfBadInput, "rsf_batch_rates: null pointer".into());
+    const CALL: &str = "rsf_batch_rates";
+    status(|| {
+        if n == 0 {
+            return Ok(());
         }
+        // SAFETY: each pointer is checked for null and n for size; n values each, not
+        // overlapping, by the contract above
+        let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_dpsi, rate) = unsafe {
+            (
+                input(CALL, "fp", fp, n)?,
+                input(CALL, "sp", sp, n)?,
+                input(CALL, "ln_v", ln_v, n)?,
+                input(CALL, "ln_theta", ln_theta, n)?,
+                output(CALL, "f", f, n)?,
+                output(CALL, "df_dln_v", df_dln_v, n)?,
+                output(CALL, "df_dpsi", df_dpsi, n)?,
+                output(CALL, "ln_theta_rate", ln_theta_rate_out, n)?,
+            )
+        };
         for i in 0..n {
-            let (p, s) = unsafe { (&*fp.add(i), &*sp.add(i)) };
-            let form = match form_of(p) {
-                Ok(f) => f,
-                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
-            };
-            let (x, z) = unsafe { (*ln_v.add(i), *ln_theta.add(i)) };
-            let r = with_law(s, |g, scale| {
-                let fr = friction(form, p.f0, p.a, p.v0, x, psi_term(s.b, p.v0, s.dc, scale, z));
-                (fr, g(x, z))
-            });
-            match r {
-                Ok((fr, rate)) => unsafe {
-                    *f.add(i) = fr.value;
-                    *df_dln_v.add(i) = fr.d_ln_v;
-                    *df_dpsi.add(i) = fr.d_psi;
-                    *ln_theta_rate_out.add(i) = rate;
-                },
-                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
-            }
+            let (p, s, x, z) = (&fp[i], &sp[i], ln_v[i], ln_theta[i]);
+            let form = form_of(p).map_err(|st| element(i, st))?;
+            finite(CALL, &[("ln_v", x), ("ln_theta", z)]).map_err(|st| element(i, st))?;
+            let (fr, r) = with_law(s, |g, scale| {
+                (friction(form, p.f0, p.a, p.v0, x, psi_term(s.b, p.v0, s.dc, scale, z)), g(x, z))
+            })
+            .map_err(|st| element(i, st))?;
+            finite_out(CALL, &[("f", fr.value), ("df_dln_v", fr.d_ln_v), ("df_dpsi", fr.d_psi), ("ln_theta_rate", r)])
+                .map_err(|st| element(i, st))?;
+            (f[i], df_dln_v[i], df_dpsi[i], rate[i]) = (fr.value, fr.d_ln_v, fr.d_psi, r);
         }
-        RsfStatus::RsfOk
+        Ok(())
     })
 }
 
 /// Over `n` elements: the slip rate of element i from the balance with its own `tau[i]`,
 /// `sigma[i]`, `eta[i]` and state (Ψ from `sp[i]`, `ln_theta[i]`); `ln_v` holds the warm
-/// starts on entry and the roots on return. Stops at the first element without a root.
+/// starts on entry and the roots on return. Stops at the first bad element or element without
+/// a root and names it (`element i: …` in `rsf_last_error`).
 ///
 /// # Safety
-/// Every pointer must point to `n` valid values (nulls are refused).
+/// Every pointer must point to `n` valid values (nulls are refused), and `ln_v` must not
+/// overlap the inputs.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
     n: usize,
@@ -370,33 +418,36 @@ pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
     eta: *const f64,
     ln_v: *mut f64,
 ) -> RsfStatus {
-    guard(|| {
-        if n > 0
-            && [fp as usize, sp as usize, ln_theta as usize, tau as usize, sigma as usize, eta as usize, ln_v as usize]
-                .contains(&0)
-        {
-            return fail(RsfStatus::RsfBadInput, "rsf_batch_solve_slip_rate: null pointer".into());
+    const CALL: &str = "rsf_batch_solve_slip_rate";
+    status(|| {
+        if n == 0 {
+            return Ok(());
         }
+        // SAFETY: each pointer is checked for null and n for size; n values each, `ln_v` not
+        // overlapping the inputs, by the contract above
+        let (fp, sp, ln_theta, tau, sigma, eta, ln_v) = unsafe {
+            (
+                input(CALL, "fp", fp, n)?,
+                input(CALL, "sp", sp, n)?,
+                input(CALL, "ln_theta", ln_theta, n)?,
+                input(CALL, "tau", tau, n)?,
+                input(CALL, "sigma", sigma, n)?,
+                input(CALL, "eta", eta, n)?,
+                output(CALL, "ln_v", ln_v, n)?,
+            )
+        };
         for i in 0..n {
-            let (p, s) = unsafe { (&*fp.add(i), &*sp.add(i)) };
-            let form = match form_of(p) {
-                Ok(f) => f,
-                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
-            };
-            let psi = match with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, unsafe { *ln_theta.add(i) })) {
-                Ok(v) => v,
-                Err(st) => return fail(st, format!("element {i}: {}", last_message())),
-            };
-            let (t, sg, et) = unsafe { (*tau.add(i), *sigma.add(i), *eta.add(i)) };
-            match solve_slip_rate(form, p.f0, p.a, p.v0, psi, t, sg, et, unsafe { *ln_v.add(i) }) {
-                Ok(r) => unsafe { *ln_v.add(i) = r.ln_v },
-                Err(e) => {
-                    let st = status_of(e);
-                    return fail(st, format!("element {i}: {e}"));
-                }
-            }
+            let (p, s) = (&fp[i], &sp[i]);
+            let form = form_of(p).map_err(|st| element(i, st))?;
+            finite(CALL, &[("ln_theta", ln_theta[i]), ("tau", tau[i]), ("sigma", sigma[i]), ("eta", eta[i]), ("ln_v", ln_v[i])])
+                .map_err(|st| element(i, st))?;
+            let psi = with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, ln_theta[i])).map_err(|st| element(i, st))?;
+            finite_out(CALL, &[("psi", psi)]).map_err(|st| element(i, st))?;
+            let r = solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau[i], sigma[i], eta[i], ln_v[i])
+                .map_err(|e| element(i, status_of(e)))?;
+            ln_v[i] = r.ln_v;
         }
-        RsfStatus::RsfOk
+        Ok(())
     })
 }
 

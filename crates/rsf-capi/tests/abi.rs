@@ -9,15 +9,21 @@
 use rsf_core::{FrictionForm, Loading, Model, Segment, StateVariable};
 use rsf_laws::Aging;
 use rsf_solvers::{Auto, OutputTimes, Problem, solve};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 const YEAR: f64 = 3.1536e7;
 
-/// target/<profile>/, where cargo put librsf_capi.a.
-fn target_dir() -> PathBuf {
+/// The static library this test links: cargo builds the library with all its crate types
+/// (rlib, staticlib, cdylib) into `target/<profile>/deps/`, beside this test's own binary, for
+/// `cargo test` alone; `cargo build` also copies it one folder up.
+fn static_lib() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
-    exe.parent().and_then(Path::parent).unwrap().to_path_buf()
+    let deps = exe.parent().unwrap();
+    [deps.join("librsf_capi.a"), deps.parent().unwrap().join("librsf_capi.a")]
+        .into_iter()
+        .find(|p| p.exists())
+        .unwrap_or_else(|| panic!("librsf_capi.a is in neither {} nor its parent", deps.display()))
 }
 
 fn crate_dir() -> PathBuf {
@@ -29,8 +35,7 @@ fn have(tool: &str) -> bool {
 }
 
 fn compile_and_run(compiler: &str, source: &str, out: &str) -> String {
-    let lib = target_dir().join("librsf_capi.a");
-    assert!(lib.exists(), "{} not built", lib.display());
+    let lib = static_lib();
     let exe = std::env::temp_dir().join(out);
     let src = crate_dir().join("examples").join(source);
     let mut cmd = Command::new(compiler);
@@ -127,6 +132,36 @@ fn c_host_reproduces_an_independent_integration() {
     assert!((interval_r * YEAR / (365.25 * 86400.0) - 14.1687).abs() < 0.002);
     assert!(out.contains("unknown law -> 2: unknown law id 42"), "{out}");
     assert!(out.contains("negative stress -> 3: "), "{out}");
+}
+
+/// Each refusal that rsf.h promises, from C: non-finite and out-of-range inputs to every entry
+/// point give RSF_BAD_INPUT with a message naming the input (and the element of a batch).
+#[test]
+fn c_host_sees_every_bad_input_refused() {
+    if !have("gcc") {
+        println!("SKIP: gcc not installed (.ci/run installs it); the C refusals were not run");
+        return;
+    }
+    let out = compile_and_run("gcc", "c/refusals.c", "rsf_capi_refusals");
+    println!("{out}");
+    assert!(out.contains("refused 21 accepted 0"), "{out}");
+    assert!(!out.contains("ACCEPTED"), "{out}");
+    for (call, says) in [
+        ("psi v0=nan ->", "rsf_psi: v0 = NaN is not finite"),
+        ("psi v0=-1 ->", "v0 = -1 must be positive"),
+        ("psi v0=0 ->", "v0 = 0 must be positive"),
+        ("psi ln_theta=inf ->", "ln_theta = inf is not finite"),
+        ("batch_rates ln_v[2]=nan ->", "element 2: rsf_batch_rates: ln_v = NaN is not finite"),
+        ("batch_rates ln_theta[2]=inf ->", "element 2: rsf_batch_rates: ln_theta = inf"),
+        ("batch_rates version[2] ->", "element 2: RsfStateParams.version 99"),
+        ("batch_solve sigma[2]=nan ->", "element 2: rsf_batch_solve_slip_rate: sigma = NaN"),
+        ("batch_solve ln_v[3]=nan ->", "element 3:"),
+        ("friction null output ->", "rsf_friction: f is null"),
+    ] {
+        let line = out.lines().find(|l| l.starts_with(call)).unwrap_or_else(|| panic!("no `{call}` in\n{out}"));
+        assert!(line.contains(" -> 1: ") && line.contains(says), "{line}");
+    }
+    assert!(out.contains("good batch -> 0"), "{out}");
 }
 
 #[test]

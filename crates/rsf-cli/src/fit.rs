@@ -73,6 +73,11 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
 
 pub fn run(a: &FitArgs) -> Result<()> {
     let start = Instant::now();
+    let mut files = crate::output::Files::default().input("record", &a.data);
+    if let Some(s) = &a.segments {
+        files = files.input("--segments file", s);
+    }
+    files.output("--json", a.json.as_deref()).output("--plot", a.plot.as_deref()).check()?;
     let opts = options(a)?;
     let rec = a.read.read(&a.data)?;
     let segs = match &a.segments {
@@ -259,6 +264,11 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
 /// `rsf diagnose`.
 pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     let start = Instant::now();
+    crate::output::Files::default()
+        .input("record", &a.data)
+        .output("--json", a.json.as_deref())
+        .output("--report", a.report.as_deref())
+        .check()?;
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }

@@ -1,18 +1,8 @@
 //! `rsf` — rate-and-state friction from the command line.
 //!
-//! The binary has its own C `main` (`#![no_main]`) rather than Rust's start-up routine. Why:
-//! `rsf simulate` on a lab protocol is over in about 2.5 ms, and the routine's set-up (the
-//! main thread's stack guard, found by reading `/proc/self/maps`; an alternate signal stack
-//! and SIGSEGV/SIGBUS handlers; a check that the standard streams are open) is about twenty
-//! system calls, 0.2 ms measured on the seed protocol (2.61 → 2.40 ms, medians of 101).
-//!
-//! What this keeps: arguments and the standard library as usual; SIGPIPE ignored (so a closed
-//! pipe is an error that `write_stdout` can excuse); exit code 1 on an error and 101 on a
-//! panic. Every writer to stdout flushes it (`write_stdout`, `Solution::write_csv`), since
-//! nothing does at exit. What it gives up: Rust's "has overflowed its stack" message (a stack
-//! overflow is a plain SIGSEGV; nothing here recurses deeply).
-// the unit tests of this crate run under the test harness's own `main`
-#![cfg_attr(not(test), no_main)]
+//! Every output goes through `output` (temporary file, renamed when complete; an output that
+//! is an input refused before work starts); every record through the one reader
+//! (`rsf_record`, via `rsf_fit::data`).
 
 mod fit;
 mod output;
@@ -73,6 +63,11 @@ struct DataArgs {
     /// the first of each run, report the count).
     #[arg(long, default_value = "error")]
     duplicate_times: String,
+    /// Drop rows with an over-range value (|value| >= 1e30, |friction| >= 10), an instrument's
+    /// no-reading value (-999999, -99999), NaN or infinity, and report the count (default: such a
+    /// row is an error naming its line and column).
+    #[arg(long)]
+    drop_invalid: bool,
 }
 
 impl DataArgs {
@@ -106,10 +101,18 @@ impl DataArgs {
                 "drop" => rsf_fit::data::DuplicateTimes::Drop,
                 other => anyhow::bail!("--duplicate-times `{other}`: use error or drop"),
             },
+            invalid: if self.drop_invalid {
+                rsf_fit::data::InvalidRows::Drop
+            } else {
+                rsf_fit::data::InvalidRows::Error
+            },
         };
         let rec = rsf_fit::data::read_record(path, &opts)?;
         if rec.dropped_duplicate_times > 0 {
             eprintln!("rsf: dropped {} rows whose time repeated the previous row's", rec.dropped_duplicate_times);
+        }
+        for w in &rec.warnings {
+            eprintln!("rsf: {}: {w}", path.display());
         }
         Ok(rec)
     }
@@ -348,54 +351,19 @@ max_slip_rate = 1e9 # µm/s; beyond it the run stops with a blow-up error
 # v = 0.9e-3        # µm/s
 # theta = [8e6]     # s, one per state variable";
 
-/// The C entry point `main` (see the module notes for why it is not Rust's); under the unit
-/// tests, whose harness has its own `main`, an ordinary function.
-#[cfg_attr(not(test), unsafe(export_name = "main"))]
-#[cfg_attr(test, allow(dead_code))]
-pub extern "C" fn rsf_main(argc: std::ffi::c_int, argv: *const *const std::ffi::c_char) -> std::ffi::c_int {
-    #[cfg(unix)]
-    // SAFETY: setting a signal's disposition to SIG_IGN, as Rust's own start-up does
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_IGN);
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            use std::io::Write;
+            // eprintln! would panic on a closed stderr
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
     }
-    // a panic has printed its message through the hook; unwinding must stop here, before
-    // the C frame
-    let outcome = std::panic::catch_unwind(|| run(Cli::parse_from(arguments(argc, argv))));
-    let (code, err) = match outcome {
-        Ok(Ok(())) => (0, None),
-        Ok(Err(e)) => (1, Some(e)),
-        Err(_) => (101, None),
-    };
-    if let Some(e) = err {
-        use std::io::Write;
-        // eprintln! would panic on a closed stderr, and a panic here cannot unwind
-        let _ = writeln!(std::io::stderr(), "error: {e:#}");
-    }
-    code
 }
 
-/// The command line from C's `argv`: std's own copy of the arguments is filled by its start-up
-/// routine, or by glibc alone, so it would be empty on other Unix systems.
-#[cfg(unix)]
-fn arguments(argc: std::ffi::c_int, argv: *const *const std::ffi::c_char) -> Vec<std::ffi::OsString> {
-    use std::os::unix::ffi::OsStrExt;
-    (0..argc.max(0) as usize)
-        .map(|i| {
-            // SAFETY: C guarantees argv[0..argc] are valid NUL-terminated strings
-            let arg = unsafe { std::ffi::CStr::from_ptr(*argv.add(i)) };
-            std::ffi::OsStr::from_bytes(arg.to_bytes()).to_owned()
-        })
-        .collect()
-}
-
-/// The command line (Windows: std reads it from the process, whatever the C runtime did).
-#[cfg(not(unix))]
-fn arguments(_argc: std::ffi::c_int, _argv: *const *const std::ffi::c_char) -> Vec<std::ffi::OsString> {
-    std::env::args_os().collect()
-}
-
-/// Writes to standard output and flushes it (nothing flushes it at exit: see the module
-/// notes); a closed pipe (`rsf … | head`) is not an error.
+/// Writes to standard output and flushes it; a closed pipe (`rsf … | head`) is not an error.
 fn write_stdout(text: &str) -> Result<()> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
@@ -410,6 +378,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Fit(args) => fit::run(&args),
         Command::Diagnose(args) => fit::diagnose(&args),
         Command::Segments { data, read, json, min_ratio, min_duration } => {
+            output::Files::default().input("record", &data).check()?;
             let rec = read.read(&data)?;
             let opts = rsf_fit::segment::SegmentOptions { min_ratio, min_duration, ..Default::default() };
             let segs = rsf_fit::segment::detect(&rec.time, &rec.load_point, &opts);
@@ -453,6 +422,19 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Simulate { protocol, output, plot, method, rtol, atol } => {
             let mut p = rsf_solvers::protocol::load(&protocol)?;
+            // the catalogue goes beside a CSV file (OUT_events.csv); with output to a device or
+            // a pipe (`-o /dev/null`), or none, to stderr
+            let events_path = match (&output, p.problem.watch.event_slip_rate) {
+                (Some(path), Some(_)) if !std::fs::metadata(path).is_ok_and(|m| !m.is_file()) => Some(path.with_file_name(
+                    format!("{}_events.csv", path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()),
+                )),
+                _ => None,
+            };
+            let mut files = output::Files::default().input("protocol", &protocol);
+            if let Some(r) = &p.record {
+                files = files.input("record the protocol reads", r);
+            }
+            files.output("-o", output.as_deref()).output("--plot", plot.as_deref()).output("events", events_path.as_deref()).check()?;
             if method.is_some() || rtol.is_some() || atol.is_some() {
                 let tol = p.method.tolerances();
                 let name = method.clone().unwrap_or_else(|| p.method.name().into());
@@ -475,14 +457,9 @@ fn run(cli: Cli) -> Result<()> {
             }
             let write_s = start.elapsed().as_secs_f64();
             if let Some(v) = p.problem.watch.event_slip_rate {
-                // the catalogue beside the CSV (OUT_events.csv), or on stderr without -o
-                match &output {
-                    Some(path) => {
-                        let ev = path.with_file_name(format!(
-                            "{}_events.csv",
-                            path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()
-                        ));
-                        output::write_file(&ev, |w| sol.write_events_csv(w))?;
+                match &events_path {
+                    Some(ev) => {
+                        output::write_file(ev, |w| sol.write_events_csv(w))?;
                         eprintln!("rsf simulate: {} events (V ≥ {v} µm/s) in {}", sol.events.len(), ev.display());
                     }
                     None => {

@@ -1,78 +1,126 @@
-//! Writing the CLI's output files.
+//! Writing the CLI's output files so that no run destroys data.
 //!
-//! Every file the CLI writes goes through [`write_file`], which writes the new contents over
-//! the old bytes and then trims the file to its new length, instead of truncating it to zero
-//! first (`File::create`). Why: on ext4 (the default `auto_da_alloc` mount option) a file
-//! truncated to zero and rewritten is flushed to disk when it is closed, to protect programs
-//! that replace files without `fsync`. For the 200 kB CSV of the seed protocol that flush cost
-//! 0.26–0.33 ms per run, more than formatting the numbers, and re-running a simulation into
-//! the same file is the common case. Overwriting in place leaves the bytes in the page cache
-//! (10 µs for the same write). A failed write still returns an error naming the file, and the
-//! file is trimmed to what was written (also when the writer panics), as a truncating write
-//! would leave it. The price: a run killed while it writes (which takes milliseconds even for
-//! a million rows) leaves the start of the new output followed by the end of the old, where a
-//! truncating write would leave a short file; docs/cli.md says so.
+//! * Every output (CSV, JSON, SVG, HTML, the events file) is written to a temporary file in the
+//!   target's folder and renamed over the target only when complete ([`write_file`], with the
+//!   `tempfile` crate). A run killed while writing, or a full disk, leaves the old file as it
+//!   was (a full disk says so); the temporary file is removed. Pipes, terminals and devices
+//!   (`/dev/stdout`, `/dev/null`) are written directly.
+//! * Before any work starts, [`Files::check`] refuses an output that is the same file as an
+//!   input (by device and inode, so links and `./` spellings are caught) and two outputs that
+//!   are one file, naming both.
+//!
+//! Not done: `fsync` before the rename. A killed process cannot leave a mix either way; only a
+//! power cut right after the run could leave an empty new file on a file system without
+//! ext4's rename-replace flush. Outputs are regenerated from their inputs, which are never
+//! written.
 
-use anyhow::{Context, Result};
-use std::fs::{File, OpenOptions};
+use anyhow::{Context, Result, bail};
 use std::io::{self, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// A file being rewritten in place, counting the bytes written so the old tail can be cut.
-/// Dropped untrimmed (a panicking writer), it trims itself.
-struct Overwrite {
-    file: File,
-    written: u64,
-    /// Whether the file is a regular file (pipes, terminals and devices are not trimmed).
-    regular: bool,
-    trimmed: bool,
+/// The inputs and outputs of one command, checked against each other before it runs.
+#[derive(Default)]
+pub struct Files<'a> {
+    inputs: Vec<(&'static str, &'a Path)>,
+    outputs: Vec<(&'static str, PathBuf)>,
 }
 
-impl Overwrite {
-    fn trim(&mut self) -> io::Result<()> {
-        self.trimmed = true;
-        if self.regular { self.file.set_len(self.written) } else { Ok(()) }
-    }
+/// What identifies a file: its device and inode when it exists, else its canonical folder and
+/// name.
+#[derive(PartialEq, Eq, Debug)]
+enum FileId {
+    #[cfg(unix)]
+    Inode(u64, u64),
+    Path(PathBuf),
 }
 
-impl Drop for Overwrite {
-    fn drop(&mut self) {
-        if !self.trimmed {
-            let _ = self.trim();
+fn file_id(p: &Path) -> Option<FileId> {
+    if let Ok(m) = std::fs::metadata(p) {
+        if !m.is_file() {
+            // devices, pipes and folders are not files that a write could destroy
+            return None;
         }
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            return Some(FileId::Inode(m.dev(), m.ino()));
+        }
+        #[cfg(not(unix))]
+        return std::fs::canonicalize(p).ok().map(FileId::Path);
+    }
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(FileId::Path(std::fs::canonicalize(dir).ok()?.join(p.file_name()?)))
+}
+
+impl<'a> Files<'a> {
+    /// An input file, named by its option in messages.
+    pub fn input(mut self, what: &'static str, p: &'a Path) -> Self {
+        self.inputs.push((what, p));
+        self
+    }
+    /// An output file, if given.
+    pub fn output(mut self, what: &'static str, p: Option<&Path>) -> Self {
+        self.outputs.extend(p.map(|p| (what, p.to_path_buf())));
+        self
+    }
+    /// Refuses an output that is an input or another output, naming both.
+    pub fn check(&self) -> Result<()> {
+        let ins: Vec<_> = self.inputs.iter().map(|(w, p)| (w, p, file_id(p))).collect();
+        let outs: Vec<_> = self.outputs.iter().map(|(w, p)| (w, p, file_id(p))).collect();
+        for (k, (w, p, id)) in outs.iter().enumerate() {
+            let Some(id) = id else { continue };
+            if let Some((wi, pi, _)) = ins.iter().find(|(_, _, i)| i.as_ref() == Some(id)) {
+                bail!(
+                    "the {w} output {} is the {wi} {}: it would be destroyed; choose another output path",
+                    p.display(),
+                    pi.display()
+                );
+            }
+            if let Some((w2, p2, _)) = outs[..k].iter().find(|(_, _, i)| i.as_ref() == Some(id)) {
+                bail!("the {w2} output {} and the {w} output {} are one file; give them different paths", p2.display(), p.display());
+            }
+        }
+        Ok(())
     }
 }
 
-impl Write for Overwrite {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let n = self.file.write(buf)?;
-        self.written += n as u64;
-        Ok(n)
-    }
-    fn flush(&mut self) -> io::Result<()> {
-        self.file.flush()
-    }
-}
-
-/// Creates or rewrites `path` with what `fill` writes (see the module notes for why the file
-/// is not truncated first). Pipes, terminals and devices (`/dev/stdout`) are written as they
-/// are; only regular files are trimmed.
+/// Writes `path` with what `fill` writes: into a temporary file beside it, renamed over it
+/// when complete. A device or pipe (`/dev/stdout`) is written directly.
 pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
-    let file = OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .with_context(|| format!("creating {}", path.display()))?;
-    // an open file whose type cannot be read is treated as regular: trimming is then tried,
-    // and a failure is reported
-    let regular = file.metadata().map(|m| m.is_file()).unwrap_or(true);
-    let mut out = Overwrite { file, written: 0, regular, trimmed: false };
-    let filled = fill(&mut out).and_then(|()| out.flush());
-    let trimmed = out.trim();
-    // the writer's own error first: it is the cause
-    filled.with_context(|| format!("writing {}", path.display()))?;
-    trimmed.with_context(|| format!("trimming {}", path.display()))
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let mut f = std::fs::OpenOptions::new().write(true).open(path).with_context(|| format!("opening {}", path.display()))?;
+        let mut w = io::BufWriter::new(&mut f);
+        return fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}", path.display()));
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path.file_name().with_context(|| format!("{}: not a file name", path.display()))?;
+    let prefix = format!(".{}.", name.to_string_lossy());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".rsf-partial");
+    // the new file gets the permissions a plain create would (0666 less the umask), not
+    // tempfile's private 0600
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let tmp = builder
+        .tempfile_in(dir)
+        .with_context(|| format!("creating a temporary file in {} for {}", dir.display(), path.display()))?;
+    let kept = if path.exists() { format!("; {} is unchanged", path.display()) } else { String::new() };
+    let mut w = io::BufWriter::with_capacity(1 << 16, tmp);
+    fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}{kept}", path.display()))?;
+    let tmp = w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("writing {}{kept}", path.display()))?;
+    tmp.persist(path).map_err(|e| e.error).with_context(|| {
+        format!("renaming the finished output to {} (in {}){kept}", name.to_string_lossy(), dir.display())
+    })?;
+    Ok(())
 }
 
 /// [`write_file`] with bytes already in memory.
@@ -84,28 +132,36 @@ pub fn write_bytes(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
 mod tests {
     use super::*;
 
+    fn dir() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
+    }
+
     #[test]
-    fn rewriting_a_longer_file_leaves_only_the_new_contents() {
-        let dir = std::env::temp_dir().join(format!("rsf-output-test-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("out.csv");
+    fn rewriting_replaces_the_whole_file() {
+        let d = dir();
+        let p = d.path().join("out.csv");
         write_bytes(&p, "a much longer first version of the file\nwith two lines\n").unwrap();
         write_bytes(&p, "short\n").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "short\n");
         write_bytes(&p, "").unwrap();
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "");
-        write_bytes(&p, "grows again, longer than before\n").unwrap();
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "grows again, longer than before\n");
-        // a failing writer leaves what was written (the prefix), not the old tail
+        // nothing is left beside it
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_failing_or_panicking_writer_leaves_the_old_file() {
+        let d = dir();
+        let p = d.path().join("out.csv");
+        write_bytes(&p, "the old run\n").unwrap();
         let err = write_file(&p, |w| {
             w.write_all(b"part")?;
-            Err(io::Error::other("disk full"))
+            Err(io::Error::other("No space left on device"))
         })
         .unwrap_err();
-        assert!(format!("{err:#}").contains("writing") && format!("{err:#}").contains("disk full"), "{err:#}");
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "part");
-        // a panicking writer leaves what it wrote, not the old tail
-        write_bytes(&p, "a long old version of the output\n").unwrap();
+        let msg = format!("{err:#}");
+        assert!(msg.contains("No space left") && msg.contains("is unchanged"), "{msg}");
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "the old run\n");
         let caught = std::panic::catch_unwind(|| {
             let _ = write_file(&p, |w| {
                 w.write_all(b"new")?;
@@ -113,14 +169,49 @@ mod tests {
             });
         });
         assert!(caught.is_err());
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
-        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "the old run\n");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1, "the temporary file is removed");
+    }
+
+    #[test]
+    fn outputs_that_are_inputs_or_each_other_are_refused() {
+        let d = dir();
+        let rec = d.path().join("rec.txt");
+        std::fs::write(&rec, "data").unwrap();
+        let other = d.path().join("out.json");
+        // the same file by another spelling
+        let spelled = d.path().join(".").join("rec.txt");
+        let e = Files::default().input("record", &rec).output("--json", Some(&spelled)).check().unwrap_err();
+        assert!(e.to_string().contains("--json output") && e.to_string().contains("record"), "{e}");
+        #[cfg(unix)]
+        {
+            let link = d.path().join("link.txt");
+            std::os::unix::fs::symlink(&rec, &link).unwrap();
+            assert!(Files::default().input("record", &rec).output("--plot", Some(&link)).check().is_err());
+        }
+        let e = Files::default()
+            .input("record", &rec)
+            .output("-o", Some(&other))
+            .output("--plot", Some(&other))
+            .check()
+            .unwrap_err();
+        assert!(e.to_string().contains("are one file"), "{e}");
+        assert!(Files::default().input("record", &rec).output("-o", Some(&other)).check().is_ok());
+        // devices are not files a write destroys
+        let null = Path::new("/dev/null");
+        assert!(Files::default().output("-o", Some(null)).output("--plot", Some(null)).check().is_ok());
+        assert_eq!(std::fs::read_to_string(&rec).unwrap(), "data");
     }
 
     #[test]
     fn a_missing_directory_is_named_in_the_error() {
         let p = Path::new("/nonexistent-rsf-dir/out.csv");
         let err = write_bytes(p, "x").unwrap_err();
-        assert!(format!("{err:#}").contains("/nonexistent-rsf-dir/out.csv"), "{err:#}");
+        assert!(format!("{err:#}").contains("/nonexistent-rsf-dir"), "{err:#}");
+    }
+
+    #[test]
+    fn devices_are_written_directly() {
+        write_bytes(Path::new("/dev/null"), "x").unwrap();
     }
 }

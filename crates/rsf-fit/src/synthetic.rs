@@ -63,6 +63,8 @@ pub fn record(
         source: format!("synthetic (seed {seed})"),
         normal_stress: vec![],
         dropped_duplicate_times: 0,
+        dropped_invalid: 0,
+        warnings: vec![],
     })
 }
 

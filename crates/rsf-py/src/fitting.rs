@@ -39,8 +39,12 @@ fn record(
             mu.len()
         )));
     }
-    if time.len() < 10 {
-        return Err(value_error(format!("a record needs at least 10 samples (got {})", time.len())));
+    if time.len() < rsf_fit::data::MIN_ROWS {
+        return Err(value_error(format!(
+            "a record needs at least {} samples (got {})",
+            rsf_fit::data::MIN_ROWS,
+            time.len()
+        )));
     }
     for (name, col) in [("time", &time), ("load_point", &lp), ("mu", &mu)] {
         if let Some(i) = col.iter().position(|x| !x.is_finite()) {

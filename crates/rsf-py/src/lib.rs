@@ -147,7 +147,7 @@ fn simulate_toml<'py>(
 /// Reads a lab record with the CLI's column options; returns `time_s`, `load_point_um`, `mu`
 /// (and `normal_stress_mpa` with `normal_col`).
 #[pyfunction]
-#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu", normal_col=None))]
+#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu", normal_col=None, drop_invalid=false))]
 fn read_record_columns<'py>(
     py: Python<'py>,
     path: &str,
@@ -155,12 +155,14 @@ fn read_record_columns<'py>(
     lp_col: &str,
     mu_col: &str,
     normal_col: Option<&str>,
+    drop_invalid: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = ReadOptions {
         time_col: time_col.into(),
         lp_col: lp_col.into(),
         mu_col: mu_col.into(),
         normal_col: normal_col.map(str::to_string),
+        invalid: if drop_invalid { rsf_fit::data::InvalidRows::Drop } else { rsf_fit::data::InvalidRows::Error },
         ..ReadOptions::default()
     };
     let rec = read_record(Path::new(path), &opts).map_err(value_error)?;
@@ -171,6 +173,7 @@ fn read_record_columns<'py>(
     if normal_col.is_some() {
         d.set_item("normal_stress_mpa", PyArray1::from_vec(py, rec.normal_stress))?;
     }
+    d.set_item("warnings", rec.warnings)?;
     Ok(d)
 }
 

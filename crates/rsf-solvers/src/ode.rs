@@ -62,6 +62,25 @@ pub struct Tolerances {
     pub atol: f64,
 }
 
+impl Tolerances {
+    /// Refuses tolerances that no step control can meet, saying what is allowed: 0 < rtol < 1,
+    /// and atol > 0 (µm of slip: with atol = 0 the slip's error has no scale where slip is zero,
+    /// at the start of every run).
+    pub fn check(&self) -> Result<(), String> {
+        use rsf_record::short_num;
+        if !(self.rtol > 0.0 && self.rtol < 1.0) {
+            return Err(format!("rtol = {} must satisfy 0 < rtol < 1 (e.g. 1e-9)", short_num(self.rtol)));
+        }
+        if !(self.atol > 0.0 && self.atol.is_finite()) {
+            return Err(format!(
+                "atol = {} must be positive and finite (µm of slip, e.g. 1e-12: the slip's error needs a scale where slip is zero)",
+                short_num(self.atol)
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Work counters returned with every solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct StepStats {

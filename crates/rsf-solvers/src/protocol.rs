@@ -49,6 +49,9 @@ pub struct Protocol {
     /// Measured friction at the record's times, when `[loading] friction_column` names one
     /// (for plots and misfit summaries; the forward model does not use it).
     pub measured_friction: Option<Vec<f64>>,
+    /// The measured record `[loading] record` reads, resolved against the protocol's folder
+    /// (an input that no output may overwrite).
+    pub record: Option<PathBuf>,
 }
 
 /// A protocol error, naming file, line and field where known.
@@ -294,6 +297,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         ));
     }
     let mut measured_friction = None;
+    let mut record_path: Option<PathBuf> = None;
     let mut normal_stress = None;
     let (loading, is_record) = match (&rl.segment, &rl.record) {
         (Some(_), Some(r)) => {
@@ -371,6 +375,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                 normal_stress: rl.normal_stress_column.as_deref(),
             };
             let read = read_load_record(&path, &cols).map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            record_path = Some(path.clone());
             measured_friction = read.friction;
             if let Some(sn) = read.normal_stress {
                 if model.normal_stress.is_none() {
@@ -435,15 +440,15 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         }
         if let Some(r) = &s.rtol {
             rtol = *r.get_ref();
-            if !(rtol > 0.0 && rtol < 1.0) {
-                return Err(err(Some(&r.span()), "solver.rtol", format!("{rtol} must be in (0, 1)")));
-            }
+            crate::Tolerances { rtol, atol: DEFAULT_ATOL }
+                .check()
+                .map_err(|m| err(Some(&r.span()), "solver.rtol", m))?;
         }
         if let Some(a) = &s.atol {
             atol = *a.get_ref();
-            if !(atol >= 0.0 && atol.is_finite()) {
-                return Err(err(Some(&a.span()), "solver.atol", format!("{atol} must be zero or positive")));
-            }
+            crate::Tolerances { rtol: DEFAULT_RTOL, atol }
+                .check()
+                .map_err(|m| err(Some(&a.span()), "solver.atol", m))?;
         }
         if let Some(v) = &s.max_slip_rate {
             vmax = *v.get_ref();
@@ -482,5 +487,5 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     };
     let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax, watch, normal_stress };
     problem.pieces().map_err(|e| err(Some(&raw.loading.span()), "loading", e.to_string()))?;
-    Ok(Protocol { problem, method, measured_friction })
+    Ok(Protocol { problem, method, measured_friction, record: record_path })
 }

@@ -27,62 +27,29 @@ pub struct ReadRecord {
     pub normal_stress: Option<Vec<f64>>,
 }
 
-/// Reads a load-point record: a delimited text file (comma- or tab-separated, detected from
-/// the header) whose header names the time (s) and load-point (µm) columns, and optionally
-/// friction and normal-stress (MPa) columns. Lines starting with `#` are skipped. Errors name
-/// the line and column.
+/// Reads a load-point record through the one record reader ([`rsf_record`]: the formats and
+/// checks of `rsf fit`): a header naming the time (s) and load-point (µm) columns, and
+/// optionally friction and normal-stress (MPa) columns. Errors name the file, line and column.
 pub fn read_load_record(path: &Path, cols: &RecordColumns) -> Result<ReadRecord, String> {
-    let (time_col, lp_col, mu_col, sn_col) = (cols.time, cols.load_point, cols.friction, cols.normal_stress);
-    let name = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
-    let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
-    let delim = if header.contains('\t') { '\t' } else { ',' };
-    let cols: Vec<&str> = header.split(delim).map(str::trim).collect();
-    let find = |c: &str| {
-        cols.iter()
-            .position(|h| *h == c)
-            .ok_or_else(|| format!("{name}: no column `{c}` in header ({})", cols.join(",")))
-    };
-    let (ti, li) = (find(time_col)?, find(lp_col)?);
-    let mi = mu_col.map(find).transpose()?;
-    let si = sn_col.map(find).transpose()?;
+    use rsf_record::Column;
+    let mut spec_cols = vec![Column::new(cols.time), Column::new(cols.load_point)];
+    spec_cols.extend(cols.friction.map(Column::friction));
+    spec_cols.extend(cols.normal_stress.map(Column::positive));
+    // a load history needs two points, not the fewest rows of a record to fit
+    let spec = rsf_record::Spec { min_rows: 2, ..rsf_record::Spec::timed(spec_cols) };
     let mut rec = LoadRecord { time: Vec::new(), load_point: Vec::new() };
     let mut mu = Vec::new();
     let mut sn = Vec::new();
-    for (ln, line) in lines {
-        let cells: Vec<&str> = line.split(delim).collect();
-        let get = |i: usize, c: &str| -> Result<f64, String> {
-            let cell = cells.get(i).ok_or_else(|| format!("{name}:{}: missing column `{c}`", ln + 1))?.trim();
-            let v: f64 =
-                cell.parse().map_err(|_| format!("{name}:{}: column `{c}`: `{cell}` is not a number", ln + 1))?;
-            if !v.is_finite() {
-                return Err(format!("{name}:{}: column `{c}`: {v} is not finite", ln + 1));
-            }
-            Ok(v)
-        };
-        let t = get(ti, time_col)?;
-        if let Some(&prev) = rec.time.last() {
-            if t <= prev {
-                return Err(format!(
-                    "{name}:{}: column `{time_col}`: time {t} does not increase (previous {prev})",
-                    ln + 1
-                ));
-            }
-        }
-        rec.time.push(t);
-        rec.load_point.push(get(li, lp_col)?);
-        if let (Some(i), Some(c)) = (mi, mu_col) {
-            mu.push(get(i, c)?);
-        }
-        if let (Some(i), Some(c)) = (si, sn_col) {
-            let v = get(i, c)?;
-            if !(v > 0.0) {
-                return Err(format!("{name}:{}: column `{c}`: normal stress {v} must be positive", ln + 1));
-            }
-            sn.push(v);
-        }
-    }
-    rec.validate().map_err(|m| format!("{name}: {m}"))?;
+    let mi = cols.friction.map(|_| 2);
+    let si = cols.normal_stress.map(|_| 2 + usize::from(mi.is_some()));
+    rsf_record::read_path(path, &spec, |_, v| {
+        rec.time.push(v[0]);
+        rec.load_point.push(v[1]);
+        mu.extend(mi.map(|i| v[i]));
+        sn.extend(si.map(|i| v[i]));
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
+    rec.validate().map_err(|m| format!("{}: {m}", path.display()))?;
     Ok(ReadRecord { load: rec, friction: mi.map(|_| mu), normal_stress: si.map(|_| sn) })
 }

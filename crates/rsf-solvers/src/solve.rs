@@ -325,12 +325,7 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
     let model = &problem.model;
     model.validate()?;
     let tol = alg.tolerances();
-    if !(tol.rtol > 0.0 && tol.rtol < 1.0 && tol.atol >= 0.0 && tol.rtol.is_finite() && tol.atol.is_finite()) {
-        return Err(SolveError::Input(format!(
-            "tolerances rtol = {}, atol = {} must satisfy 0 < rtol < 1 and atol >= 0",
-            tol.rtol, tol.atol
-        )));
-    }
+    tol.check().map_err(SolveError::Input)?;
     if !(problem.v_init > 0.0 && problem.v_init.is_finite()) {
         return Err(SolveError::Input(format!("v_init = {} must be positive and finite (µm/s)", problem.v_init)));
     }

@@ -87,6 +87,8 @@ pub struct ReadOptions {
     pub t_max: Option<f64>,
     /// Rows whose time repeats the previous row's.
     pub duplicate_times: DuplicateTimes,
+    /// Rows with an over-range, sentinel or non-finite value: refused (default) or dropped.
+    pub invalid: InvalidRows,
 }
 
 impl Default for ReadOptions {
@@ -103,6 +105,7 @@ impl Default for ReadOptions {
             t_min: None,
             t_max: None,
             duplicate_times: DuplicateTimes::Error,
+            invalid: InvalidRows::Error,
         }
     }
 }
@@ -124,17 +127,16 @@ pub struct Record {
     /// Rows dropped because their time repeated the previous row's
     /// ([`DuplicateTimes::Drop`]).
     pub dropped_duplicate_times: usize,
+    /// Rows dropped for an invalid value ([`InvalidRows::Drop`]).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub dropped_invalid: usize,
+    /// What the reader warned of (a dropped cut last line, a Windows-1252 header, dropped rows).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
-/// What to do with a row whose time equals the previous row's (loggers that write two rows
-/// per clock tick).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DuplicateTimes {
-    /// Refuse the record, naming the line (the default: a repeated time may mean a broken clock).
-    #[default]
-    Error,
-    /// Keep the first row of each run of equal times, drop the others and count them.
-    Drop,
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Record {
@@ -157,6 +159,8 @@ impl Record {
             normal_stress: if self.normal_stress.is_empty() { vec![] } else { self.normal_stress[i0..i1].to_vec() },
             source: self.source.clone(),
             dropped_duplicate_times: self.dropped_duplicate_times,
+            dropped_invalid: self.dropped_invalid,
+            warnings: self.warnings.clone(),
         }
     }
 
@@ -171,6 +175,8 @@ impl Record {
             normal_stress: keep(&self.normal_stress),
             source: self.source.clone(),
             dropped_duplicate_times: self.dropped_duplicate_times,
+            dropped_invalid: self.dropped_invalid,
+            warnings: self.warnings.clone(),
         }
     }
 }
@@ -212,279 +218,108 @@ pub fn isolated_spikes(x: &[f64]) -> Vec<usize> {
         .collect()
 }
 
-/// A data error naming file, line and column where known.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}{}: {}{message}", line.map(|l| format!(":{l}")).unwrap_or_default(), column.as_ref().map(|c| format!("column `{c}`: ")).unwrap_or_default())]
-pub struct DataError {
-    /// File name.
-    pub file: String,
-    /// 1-based line.
-    pub line: Option<usize>,
-    /// Column name.
-    pub column: Option<String>,
-    /// What is wrong.
-    pub message: String,
-}
+/// A data error naming file, line and column where known: the one reader's error.
+pub use rsf_record::ReadError as DataError;
+pub use rsf_record::{DuplicateTimes, InvalidRows, MIN_ROWS, ReadErrorKind};
 
-/// Minimum number of rows a record must have.
-pub const MIN_ROWS: usize = 10;
-
-/// Reads a record from a file, streaming it line by line (memory stays near the size of the
-/// numbers kept). See [`parse_record`] for the format rules.
-pub fn read_record(path: &Path, opts: &ReadOptions) -> Result<Record, DataError> {
-    use std::io::BufRead;
-    let name = path.display().to_string();
-    let io_err = |e: std::io::Error| DataError {
-        file: name.clone(),
-        line: None,
-        column: None,
-        message: format!("cannot read: {e}"),
-    };
-    let f = std::fs::File::open(path).map_err(io_err)?;
-    let size = f.metadata().map(|m| m.len() as usize).unwrap_or(0);
-    let mut rd = std::io::BufReader::with_capacity(1 << 20, f);
-    let mut buf = String::new();
-    let mut err = None;
-    let lines = std::iter::from_fn(|| {
-        buf.clear();
-        match rd.read_line(&mut buf) {
-            Ok(0) => None,
-            Ok(_) => Some(buf.trim_end_matches(['\n', '\r']).to_string()),
-            Err(e) => {
-                err = Some(e);
-                None
+impl ReadOptions {
+    /// The columns to read, in the order `read_lines` expects them: time, load point, then
+    /// friction or shear, then normal stress.
+    fn spec(&self) -> Result<rsf_record::Spec, String> {
+        use rsf_record::Column;
+        let mut cols = vec![Column::new(&self.time_col), Column::new(&self.lp_col)];
+        match (&self.shear_col, &self.normal_col, self.normal_stress) {
+            (Some(s), Some(n), _) => cols.extend([Column::new(s), Column::positive(n)]),
+            (Some(s), None, Some(v)) if v > 0.0 && v.is_finite() => cols.push(Column::new(s)),
+            (Some(_), None, Some(v)) => return Err(format!("normal stress {v} must be positive")),
+            (Some(s), None, None) => {
+                return Err(format!("column `{s}`: a shear column needs --normal-stress or --normal-col"));
+            }
+            (None, n, _) => {
+                cols.push(Column::friction(&self.mu_col));
+                cols.extend(n.iter().map(Column::positive));
             }
         }
-    });
-    let rec = parse_lines(lines, &name, opts, size / 40)?;
-    if let Some(e) = err {
-        return Err(DataError { file: name, line: None, column: None, message: format!("cannot read: {e}") });
-    }
-    Ok(rec)
-}
-
-fn split_fields(line: &str, delim: Option<char>) -> Vec<&str> {
-    match delim {
-        Some(d) => line.split(d).map(|f| f.trim().trim_matches('"')).collect(),
-        None => line.split_ascii_whitespace().collect(),
+        Ok(rsf_record::Spec { duplicates: self.duplicate_times, invalid: self.invalid, ..rsf_record::Spec::timed(cols) })
     }
 }
 
-/// Parses a record from text.
-///
-/// * The header is the first line (skipping blank and `#` lines) that names the time column;
-///   lines before it (instrument preamble) are skipped.
-/// * Delimiter: tab if the header has one, else comma, else whitespace.
-/// * Lines between the header and the first numeric row (units, record counts) are skipped.
-/// * Rows with one more field than the header carry a leading row index (xlook exports).
-/// * Missing, non-numeric or non-finite cells, and time that does not strictly increase, are
-///   errors naming the line and column.
+/// Reads a record from a file, streaming it (memory stays near the size of the numbers kept).
+/// The format rules and what is refused are those of the one reader, [`rsf_record`]:
+/// comma, tab, semicolon (decimal comma) or whitespace separated, a preamble, unit rows,
+/// comments, quotes, a BOM, UTF-16 or Windows-1252, any line ends; a cut, ragged, over-range
+/// or non-increasing record is refused naming file, line and column.
+pub fn read_record(path: &Path, opts: &ReadOptions) -> Result<Record, DataError> {
+    let name = path.display().to_string();
+    let size = std::fs::metadata(path).map(|m| m.len() as usize).unwrap_or(0);
+    read_with(&name, opts, size / 40, |spec, visit| rsf_record::read_path(path, spec, visit))
+}
+
+/// Parses a record held in memory; `file` names it in errors. See [`read_record`].
 pub fn parse_record(text: &str, file: &str, opts: &ReadOptions) -> Result<Record, DataError> {
-    parse_lines(text.lines().map(str::to_string), file, opts, text.len() / 40)
+    read_with(file, opts, text.len() / 40, |spec, visit| rsf_record::read_text(text, file, spec, visit))
 }
 
-fn parse_lines(
-    lines: impl Iterator<Item = String>,
+type Visit<'a> = &'a mut dyn FnMut(u64, &[f64]) -> Result<(), rsf_record::RowError>;
+
+fn read_with(
     file: &str,
     opts: &ReadOptions,
     size_hint: usize,
+    read: impl FnOnce(&rsf_record::Spec, Visit) -> Result<rsf_record::Summary, DataError>,
 ) -> Result<Record, DataError> {
-    let err = |line: Option<usize>, column: Option<&str>, message: String| DataError {
+    let spec = opts.spec().map_err(|m| DataError {
         file: file.to_string(),
-        line,
-        column: column.map(str::to_string),
-        message,
-    };
-    // a UTF-8 byte-order mark (Excel's default CSV) is not part of the first column's name
-    let lines = lines.map(|l| match l.strip_prefix('\u{feff}') {
-        Some(rest) => rest.to_string(),
-        None => l,
-    });
-    let mut lines = lines.enumerate().filter(|(_, l)| {
-        let t = l.trim_start();
-        !t.is_empty() && !t.starts_with('#')
-    });
-    // header
-    let mut header: Option<(usize, Option<char>)> = None;
-    let mut first_seen: Option<String> = None;
-    let mut header_line = String::new();
-    for (ln, line) in lines.by_ref().take(200) {
-        // semicolons separate fields where the comma is the decimal mark (European locales)
-        let delim = if line.contains('\t') {
-            Some('\t')
-        } else if line.contains(';') {
-            Some(';')
-        } else if line.contains(',') {
-            Some(',')
-        } else {
-            None
-        };
-        let fields = split_fields(&line, delim);
-        if first_seen.is_none() {
-            first_seen = Some(fields.join(","));
-        }
-        if fields.iter().any(|f| *f == opts.time_col) {
-            header = Some((ln, delim));
-            header_line = line;
-            break;
-        }
-    }
-    let Some((hline, delim)) = header else {
-        return Err(err(
-            None,
-            None,
-            format!(
-                "no header line names the time column `{}` (first line: {})",
-                opts.time_col,
-                first_seen.unwrap_or_else(|| "none".into())
-            ),
-        ));
-    };
-    let names = split_fields(&header_line, delim);
-    let find = |c: &str| {
-        names
-            .iter()
-            .position(|h| *h == c)
-            .ok_or_else(|| err(Some(hline + 1), Some(c), format!("no such column in the header ({})", names.join(","))))
-    };
-    let ti = find(&opts.time_col)?;
-    let li = find(&opts.lp_col)?;
-    enum Fric {
-        Mu(usize),
-        Shear(usize, Result<usize, f64>),
-    }
-    // a normal-stress column beside a friction column: read for σ(t)
-    let sigma_col = match (&opts.shear_col, &opts.normal_col) {
-        (None, Some(c)) => Some(find(c)?),
-        _ => None,
-    };
-    let fric = match &opts.shear_col {
-        Some(s) => {
-            let si = find(s)?;
-            let norm = match (&opts.normal_col, opts.normal_stress) {
-                (Some(c), _) => Ok(find(c)?),
-                (None, Some(v)) if v > 0.0 && v.is_finite() => Err(v),
-                (None, Some(v)) => return Err(err(None, None, format!("normal stress {v} must be positive"))),
-                (None, None) => {
-                    return Err(err(None, Some(s), "a shear column needs --normal-stress or --normal-col".into()));
-                }
-            };
-            Fric::Shear(si, norm)
-        }
-        None => Fric::Mu(find(&opts.mu_col)?),
-    };
+        line: None,
+        column: None,
+        kind: ReadErrorKind::Invalid(m),
+    })?;
     let (tf, df) = (opts.time_unit.to_s(), opts.disp_unit.to_um());
     let mut rec = Record { source: file.to_string(), ..Default::default() };
-    let est = size_hint;
-    rec.time.reserve(est);
-    rec.load_point.reserve(est);
-    rec.mu.reserve(est);
-    let mut offset: Option<usize> = None;
-    let parse = |cells: &[&str], i: usize, col: &str, ln: usize| -> Result<f64, DataError> {
-        let cell = cells.get(i).ok_or_else(|| err(Some(ln + 1), Some(col), "missing".into()))?;
-        // a decimal comma, where the comma does not separate fields
-        let v: f64 = cell
-            .parse::<f64>()
-            .or_else(|e| {
-                if delim != Some(',') && cell.matches(',').count() == 1 && !cell.contains('.') {
-                    cell.replace(',', ".").parse()
-                } else {
-                    Err(e)
-                }
-            })
-            .map_err(|_| err(Some(ln + 1), Some(col), format!("`{cell}` is not a number")))?;
-        if !v.is_finite() {
-            return Err(err(Some(ln + 1), Some(col), format!("{v} is not finite")));
-        }
-        Ok(v)
-    };
-    for (ln, line) in lines {
-        let cells = split_fields(&line, delim);
-        let off = match offset {
-            Some(o) => o,
-            None => {
-                // units or count lines before the first numeric row are skipped: the first data
-                // row has the header's field count (or one more: a leading index) and numbers
-                // in every column read
-                if cells.len() != names.len() && cells.len() != names.len() + 1 {
-                    continue;
-                }
-                let o = usize::from(cells.len() == names.len() + 1);
-                let needed: Vec<usize> = match &fric {
-                    Fric::Mu(i) => vec![ti, li, *i].into_iter().chain(sigma_col).collect(),
-                    Fric::Shear(si, Ok(ni)) => vec![ti, li, *si, *ni],
-                    Fric::Shear(si, Err(_)) => vec![ti, li, *si],
-                };
-                if needed.iter().any(|&i| parse(&cells, i + o, "", ln).is_err()) {
-                    continue;
-                }
-                offset = Some(o);
-                o
-            }
-        };
-        let t = parse(&cells, ti + off, &opts.time_col, ln)? * tf;
-        if let Some(&prev) = rec.time.last() {
-            if t == prev && opts.duplicate_times == DuplicateTimes::Drop {
-                rec.dropped_duplicate_times += 1;
-                continue;
-            }
-            if !(t > prev) {
-                return Err(err(
-                    Some(ln + 1),
-                    Some(&opts.time_col),
-                    if t == prev {
-                        format!(
-                            "time {} repeats the previous row's (use the option to drop duplicated times, \
-                             `--duplicate-times drop`, if the logger writes two rows per tick)",
-                            t / tf
-                        )
-                    } else {
-                        format!("time {} does not increase (previous {})", t / tf, prev / tf)
-                    },
-                ));
-            }
-        }
+    rec.time.reserve(size_hint);
+    rec.load_point.reserve(size_hint);
+    rec.mu.reserve(size_hint);
+    let shear = opts.shear_col.is_some();
+    let mut visit = |_line: u64, v: &[f64]| {
+        let t = v[0] * tf;
         if opts.t_min.is_some_and(|a| t < a) || opts.t_max.is_some_and(|b| t > b) {
-            continue;
+            return Ok(());
         }
-        let x = parse(&cells, li + off, &opts.lp_col, ln)? * df;
-        let positive = |sn: f64| {
-            if sn > 0.0 {
-                Ok(sn)
-            } else {
-                Err(err(Some(ln + 1), opts.normal_col.as_deref(), format!("normal stress {sn} must be positive")))
-            }
+        let (mu, sigma) = match (shear, v.len()) {
+            (true, 4) => (v[2] / v[3], Some(v[3])),
+            (true, _) => (v[2] / opts.normal_stress.unwrap_or(f64::NAN), None),
+            (false, 4) => (v[2], Some(v[3])),
+            (false, _) => (v[2], None),
         };
-        let mut sigma = None;
-        let mu = match &fric {
-            Fric::Mu(i) => {
-                if let Some(ni) = sigma_col {
-                    sigma = Some(positive(parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?)?);
-                }
-                parse(&cells, i + off, &opts.mu_col, ln)?
-            }
-            Fric::Shear(si, norm) => {
-                let tau = parse(&cells, si + off, opts.shear_col.as_deref().unwrap(), ln)?;
-                let sn = match norm {
-                    Ok(ni) => {
-                        let v = positive(parse(&cells, ni + off, opts.normal_col.as_deref().unwrap(), ln)?)?;
-                        sigma = Some(v);
-                        v
-                    }
-                    Err(v) => *v,
-                };
-                tau / sn
-            }
-        };
+        if !(mu.abs() < rsf_record::MAX_ABS_FRICTION) {
+            return Err(rsf_record::RowError {
+                column: Some(2),
+                message: format!(
+                    "friction {} (shear / normal stress) is out of range (|μ| must be below {})",
+                    rsf_record::short_num(mu),
+                    rsf_record::MAX_ABS_FRICTION
+                ),
+            });
+        }
         rec.time.push(t);
-        rec.load_point.push(x);
+        rec.load_point.push(v[1] * df);
         rec.mu.push(mu);
         if let Some(sn) = sigma {
             rec.normal_stress.push(sn);
         }
-    }
+        Ok(())
+    };
+    let summary = read(&spec, &mut visit)?;
+    rec.dropped_duplicate_times = summary.dropped_duplicates;
+    rec.dropped_invalid = summary.dropped_invalid;
+    rec.warnings = summary.warnings;
     if rec.len() < MIN_ROWS {
-        return Err(err(None, None, format!("{} data rows; at least {MIN_ROWS} are needed", rec.len())));
+        return Err(DataError {
+            file: file.to_string(),
+            line: None,
+            column: None,
+            kind: ReadErrorKind::TooFewRows { rows: rec.len(), min: MIN_ROWS, first_skipped: None },
+        });
     }
     Ok(rec)
 }

@@ -68,6 +68,8 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
         normal_stress: record.normal_stress.get(i_start..).map(<[f64]>::to_vec).unwrap_or_default(),
         source: record.source.clone(),
         dropped_duplicate_times: record.dropped_duplicate_times,
+        dropped_invalid: record.dropped_invalid,
+        warnings: record.warnings.clone(),
     };
     let segs: Vec<Segment> =
         segments[first..].iter().map(|s| Segment { i0: s.i0 - i_start, i1: s.i1 - i_start, ..s.clone() }).collect();

@@ -301,13 +301,22 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
 
 
 def read_record(path: Union[str, os.PathLike], time_col: str = "time_s", lp_col: str = "load_point_um",
-                mu_col: str = "mu", normal_col: Optional[str] = None) -> dict:
-    """Reads a lab record (CSV, tab- or semicolon-separated) with the CLI's column options.
+                mu_col: str = "mu", normal_col: Optional[str] = None, drop_invalid: bool = False) -> dict:
+    """Reads a lab record with rsf's one record reader (the CLI's formats and checks: comma,
+    tab, semicolon with decimal comma or whitespace separated; UTF-8, UTF-16 or Windows-1252).
 
     Returns ``{"time_s", "load_point_um", "mu"}`` as numpy arrays, plus ``normal_stress_mpa``
     when ``normal_col`` names a normal-stress column (MPa; it can drive the model's σ(t)).
+    A cut, ragged or over-range record raises ``ValueError`` naming file, line and column;
+    ``drop_invalid=True`` drops rows with over-range, sentinel or non-finite values instead.
+    What the reader warns of (a dropped cut last line, dropped rows) is issued as a
+    ``UserWarning``.
     """
-    return _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col)
+    import warnings
+    rec = _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col, drop_invalid)
+    for w in rec.pop("warnings"):
+        warnings.warn(f"{os.fspath(path)}: {w}", UserWarning, stacklevel=2)
+    return rec
 
 
 def _columns(record: Optional[Mapping[str, Any]], time, load_point, mu, normal_stress=None):
