@@ -194,7 +194,9 @@ fn finite(call: &str, values: &[(&str, f64)]) -> Result<(), RsfStatus> {
 /// Refuses a result that overflowed (finite inputs far out of range), naming it.
 fn finite_out(call: &str, values: &[(&str, f64)]) -> Result<(), RsfStatus> {
     match values.iter().find(|(_, v)| !v.is_finite()) {
-        Some((name, v)) => Err(fail(RsfStatus::RsfBadInput, format!("{call}: {name} = {v}: the inputs are out of range"))),
+        Some((name, v)) => {
+            Err(fail(RsfStatus::RsfBadInput, format!("{call}: {name} = {v}: the inputs are out of range")))
+        }
         None => Ok(()),
     }
 }
@@ -257,7 +259,12 @@ pub unsafe extern "C" fn rsf_friction(
     status(|| {
         // SAFETY: each pointer is checked for null and is one value by the contract above
         let (p, f, df_dln_v, df_dpsi) = unsafe {
-            (&input(CALL, "p", p, 1)?[0], output(CALL, "f", f, 1)?, output(CALL, "df_dln_v", df_dln_v, 1)?, output(CALL, "df_dpsi", df_dpsi, 1)?)
+            (
+                &input(CALL, "p", p, 1)?[0],
+                output(CALL, "f", f, 1)?,
+                output(CALL, "df_dln_v", df_dln_v, 1)?,
+                output(CALL, "df_dpsi", df_dpsi, 1)?,
+            )
         };
         let form = form_of(p)?;
         finite(CALL, &[("ln_v", ln_v), ("psi", psi)])?;
@@ -439,9 +446,13 @@ pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
         for i in 0..n {
             let (p, s) = (&fp[i], &sp[i]);
             let form = form_of(p).map_err(|st| element(i, st))?;
-            finite(CALL, &[("ln_theta", ln_theta[i]), ("tau", tau[i]), ("sigma", sigma[i]), ("eta", eta[i]), ("ln_v", ln_v[i])])
-                .map_err(|st| element(i, st))?;
-            let psi = with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, ln_theta[i])).map_err(|st| element(i, st))?;
+            finite(
+                CALL,
+                &[("ln_theta", ln_theta[i]), ("tau", tau[i]), ("sigma", sigma[i]), ("eta", eta[i]), ("ln_v", ln_v[i])],
+            )
+            .map_err(|st| element(i, st))?;
+            let psi =
+                with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, ln_theta[i])).map_err(|st| element(i, st))?;
             finite_out(CALL, &[("psi", psi)]).map_err(|st| element(i, st))?;
             let r = solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau[i], sigma[i], eta[i], ln_v[i])
                 .map_err(|e| element(i, status_of(e)))?;

@@ -425,16 +425,23 @@ fn run(cli: Cli) -> Result<()> {
             // the catalogue goes beside a CSV file (OUT_events.csv); with output to a device or
             // a pipe (`-o /dev/null`), or none, to stderr
             let events_path = match (&output, p.problem.watch.event_slip_rate) {
-                (Some(path), Some(_)) if !std::fs::metadata(path).is_ok_and(|m| !m.is_file()) => Some(path.with_file_name(
-                    format!("{}_events.csv", path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()),
-                )),
+                (Some(path), Some(_)) if !std::fs::metadata(path).is_ok_and(|m| !m.is_file()) => {
+                    Some(path.with_file_name(format!(
+                        "{}_events.csv",
+                        path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()
+                    )))
+                }
                 _ => None,
             };
             let mut files = output::Files::default().input("protocol", &protocol);
             if let Some(r) = &p.record {
                 files = files.input("record the protocol reads", r);
             }
-            files.output("-o", output.as_deref()).output("--plot", plot.as_deref()).output("events", events_path.as_deref()).check()?;
+            files
+                .output("-o", output.as_deref())
+                .output("--plot", plot.as_deref())
+                .output("events", events_path.as_deref())
+                .check()?;
             if method.is_some() || rtol.is_some() || atol.is_some() {
                 let tol = p.method.tolerances();
                 let name = method.clone().unwrap_or_else(|| p.method.name().into());

@@ -80,7 +80,11 @@ impl<'a> Files<'a> {
                 );
             }
             if let Some((w2, p2, _)) = outs[..k].iter().find(|(_, _, i)| i.as_ref() == Some(id)) {
-                bail!("the {w2} output {} and the {w} output {} are one file; give them different paths", p2.display(), p.display());
+                bail!(
+                    "the {w2} output {} and the {w} output {} are one file; give them different paths",
+                    p2.display(),
+                    p.display()
+                );
             }
         }
         Ok(())
@@ -91,7 +95,10 @@ impl<'a> Files<'a> {
 /// when complete. A device or pipe (`/dev/stdout`) is written directly.
 pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-        let mut f = std::fs::OpenOptions::new().write(true).open(path).with_context(|| format!("opening {}", path.display()))?;
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("opening {}", path.display()))?;
         let mut w = io::BufWriter::new(&mut f);
         return fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}", path.display()));
     }
@@ -116,7 +123,8 @@ pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<(
     let kept = if path.exists() { format!("; {} is unchanged", path.display()) } else { String::new() };
     let mut w = io::BufWriter::with_capacity(1 << 16, tmp);
     fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}{kept}", path.display()))?;
-    let tmp = w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("writing {}{kept}", path.display()))?;
+    let tmp =
+        w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("writing {}{kept}", path.display()))?;
     tmp.persist(path).map_err(|e| e.error).with_context(|| {
         format!("renaming the finished output to {} (in {}){kept}", name.to_string_lossy(), dir.display())
     })?;

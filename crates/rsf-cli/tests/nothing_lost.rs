@@ -114,7 +114,8 @@ fn d2_a_killed_run_leaves_the_old_or_the_new_file() {
     let mut outcomes = (0, 0);
     for k in 0..10 {
         std::fs::copy(&old_csv, &out).unwrap();
-        let mut child = rsf().args(["simulate", s(&new_p), "-o", s(&out)]).stderr(std::process::Stdio::null()).spawn().unwrap();
+        let mut child =
+            rsf().args(["simulate", s(&new_p), "-o", s(&out)]).stderr(std::process::Stdio::null()).spawn().unwrap();
         std::thread::sleep(std::time::Duration::from_secs_f64(full * (0.3 + 0.08 * k as f64)));
         let _ = child.kill();
         child.wait().unwrap();
@@ -170,7 +171,11 @@ fn d4_an_over_range_cell_is_refused_or_dropped() {
         assert!(e.contains("over.txt:501: column `Friction`:") && e.contains(bad.trim_start_matches('-')), "{e}");
         let j = d.path().join("f.json");
         let o = fit(&p, &["--drop-invalid", "--json", s(&j)]);
-        assert!(o.status.success() && stderr(&o).contains("dropped 1 rows with an invalid value (lines 501)"), "{}", stderr(&o));
+        assert!(
+            o.status.success() && stderr(&o).contains("dropped 1 rows with an invalid value (lines 501)"),
+            "{}",
+            stderr(&o)
+        );
         assert!(params(&j)["a"].as_f64().unwrap() > 0.005);
     }
 }
@@ -189,10 +194,16 @@ fn d5_ragged_rows_never_shift_columns() {
     let (a, b) = (segments(&repo().join(BASALT), &["--json"]), segments(&p, &["--json"]));
     assert!(b.status.success(), "{}", stderr(&b));
     assert_eq!(a.stdout, b.stdout, "the same protocol");
-    let some: String = text.lines().enumerate().map(|(i, l)| if i == 300 { format!("{l}\t\n") } else { format!("{l}\n") }).collect();
+    let some: String =
+        text.lines().enumerate().map(|(i, l)| if i == 300 { format!("{l}\t\n") } else { format!("{l}\n") }).collect();
     std::fs::write(&p, some).unwrap();
     let o = segments(&p, &[]);
-    assert!(!o.status.success() && stderr(&o).contains("trailing.txt:301: 5 fields where the header and the rows before have 4"), "{}", stderr(&o));
+    assert!(
+        !o.status.success()
+            && stderr(&o).contains("trailing.txt:301: 5 fields where the header and the rows before have 4"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// A Latin-1 header, UTF-16 and old-Mac line ends are read (and named), not "no header".
@@ -207,7 +218,17 @@ fn d6_encodings_and_line_ends_are_read() {
     for (what, bytes) in [("latin1", latin), ("utf16", utf16), ("cr", cr)] {
         let p = d.path().join(format!("{what}.txt"));
         std::fs::write(&p, bytes).unwrap();
-        let o = run(&["segments", s(&p), "--time-col", "Time(s)", "--lp-col", "Displ(µm)", "--mu-col", "Friction", "--json"]);
+        let o = run(&[
+            "segments",
+            s(&p),
+            "--time-col",
+            "Time(s)",
+            "--lp-col",
+            "Displ(µm)",
+            "--mu-col",
+            "Friction",
+            "--json",
+        ]);
         assert!(o.status.success(), "{what}: {}", stderr(&o));
         assert_eq!(o.stdout, want, "{what}");
     }
@@ -218,15 +239,36 @@ fn d6_encodings_and_line_ends_are_read() {
 #[test]
 fn d7_simulate_reads_records_as_fit_does() {
     let d = tempfile::tempdir().unwrap();
-    let rows: Vec<(f64, f64, f64)> = (0..40).map(|i| (i as f64 * 0.5, i as f64 * 1.5, 0.6 + 0.001 * i as f64)).collect();
+    let rows: Vec<(f64, f64, f64)> =
+        (0..40).map(|i| (i as f64 * 0.5, i as f64 * 1.5, 0.6 + 0.001 * i as f64)).collect();
     let variants: Vec<(&str, String)> = vec![
-        ("plain", rows.iter().fold("time_s,load_point_um,mu\n".into(), |a, r| a + &format!("{},{},{}\n", r.0, r.1, r.2))),
-        ("eu", rows.iter().fold("time_s;load_point_um;mu\n".into(), |a, r| {
-            a + &format!("{};{};{}\n", r.0, r.1, r.2).replace('.', ",")
-        })),
-        ("bom+units", rows.iter().fold("\u{feff}time_s,load_point_um,mu\ns,um,-\n".into(), |a, r| a + &format!("{},{},{}\n", r.0, r.1, r.2))),
-        ("quoted", rows.iter().fold("\"time_s\",\"load_point_um\",\"mu\"\n".into(), |a, r| a + &format!("\"{}\",\"{}\",\"{}\"\n", r.0, r.1, r.2))),
-        ("spaces", rows.iter().fold("time_s   load_point_um   mu\n".into(), |a, r| a + &format!("{}   {}   {}\n", r.0, r.1, r.2))),
+        (
+            "plain",
+            rows.iter().fold("time_s,load_point_um,mu\n".into(), |a, r| a + &format!("{},{},{}\n", r.0, r.1, r.2)),
+        ),
+        (
+            "eu",
+            rows.iter().fold("time_s;load_point_um;mu\n".into(), |a, r| {
+                a + &format!("{};{};{}\n", r.0, r.1, r.2).replace('.', ",")
+            }),
+        ),
+        (
+            "bom+units",
+            rows.iter().fold("\u{feff}time_s,load_point_um,mu\ns,um,-\n".into(), |a, r| {
+                a + &format!("{},{},{}\n", r.0, r.1, r.2)
+            }),
+        ),
+        (
+            "quoted",
+            rows.iter().fold("\"time_s\",\"load_point_um\",\"mu\"\n".into(), |a, r| {
+                a + &format!("\"{}\",\"{}\",\"{}\"\n", r.0, r.1, r.2)
+            }),
+        ),
+        (
+            "spaces",
+            rows.iter()
+                .fold("time_s   load_point_um   mu\n".into(), |a, r| a + &format!("{}   {}   {}\n", r.0, r.1, r.2)),
+        ),
     ];
     let mut outs = vec![];
     for (what, text) in variants {
@@ -266,14 +308,22 @@ fn d9_smaller_defects() {
     assert!(e.len() < 400 && e.contains("r.txt:3: a line longer than 1 MiB"), "{}", &e[..e.len().min(400)]);
     std::fs::write(&p, text.replacen("0.607142", &"x".repeat(100_000), 1)).unwrap();
     let e = stderr(&segments(&p, &[]));
-    assert!(e.len() < 400 && e.contains("r.txt:3: column `Friction`: `xxxx") && e.contains("(100000 characters)"), "{}", &e[..e.len().min(400)]);
+    assert!(
+        e.len() < 400 && e.contains("r.txt:3: column `Friction`: `xxxx") && e.contains("(100000 characters)"),
+        "{}",
+        &e[..e.len().min(400)]
+    );
     std::fs::write(&p, text.replacen("0.607142", "1e-300", 1).replacen("\t8503.847000", "\t-1e-300", 1)).unwrap();
     let o = segments(&p, &[]);
     assert!(stderr(&o).len() < 400, "{}", stderr(&o));
     // NaN time in the first data row is an error, not a unit row
     std::fs::write(&p, text.replacen("11607.700000", "NaN", 1)).unwrap();
     let o = segments(&p, &[]);
-    assert!(!o.status.success() && stderr(&o).contains("r.txt:2: column `Time(s)`: NaN is not finite"), "{}", stderr(&o));
+    assert!(
+        !o.status.success() && stderr(&o).contains("r.txt:2: column `Time(s)`: NaN is not finite"),
+        "{}",
+        stderr(&o)
+    );
     // times × 1e300: refused, not NaN velocities
     let huge: String = text
         .lines()

@@ -299,3 +299,51 @@ def test_per_segment_refits_and_options_equal_the_cli():
     assert py.per_segment[0]["dc"] == pytest.approx(ref["per_segment"][0]["dc"], rel=1e-9)
     with pytest.raises(ValueError, match="weights"):
         rsf.fit(rec, stiffness=0.0151, weights="heavy")
+
+
+def test_the_one_reader_refuses_or_warns_as_the_cli_does():
+    """The CLI's reader: a cut last row is dropped with a warning, a ragged or over-range row
+    raises naming file, line and column, and ``drop_invalid`` drops and counts."""
+    import warnings
+    text = open(BASALT, encoding="utf-8").read()
+    with tempfile.TemporaryDirectory() as tmp:
+        cut = os.path.join(tmp, "cut.txt")
+        with open(cut, "w", encoding="utf-8") as f:
+            f.write(text[:-4])
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            rec = rsf.read_record(cut, **COLS)
+        assert any("cut line" in str(x.message) for x in w)
+        assert len(rec["time_s"]) == len(text.strip().splitlines()) - 2
+        lines = text.splitlines()
+        cells = lines[500].split("\t")
+        cells[2] = "9.9e37"
+        lines[500] = "\t".join(cells)
+        over = os.path.join(tmp, "over.txt")
+        with open(over, "w", encoding="utf-8") as f:
+            f.write("\n".join(lines) + "\n")
+        with pytest.raises(ValueError, match=r"over.txt:501: column `Friction`: 9.9e37 is out of range"):
+            rsf.read_record(over, **COLS)
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            rec = rsf.read_record(over, drop_invalid=True, **COLS)
+        assert any("dropped 1 rows" in str(x.message) for x in w)
+        lines[300] += "\t"
+        ragged = os.path.join(tmp, "ragged.txt")
+        with open(ragged, "w", encoding="utf-8") as f:
+            f.write("\n".join(lines) + "\n")
+        with pytest.raises(ValueError, match=r"ragged.txt:301: 5 fields"):
+            rsf.read_record(ragged, **COLS)
+
+
+def test_a_report_replaces_the_old_file_whole():
+    path = os.path.join(ROOT, "tests", "data", "normal_stress", "ns_small_a0.3_s+30.csv")
+    rec = rsf.read_record(path, lp_col="lp_um", normal_col="normal_stress_mpa")
+    d = rsf.diagnose(rec, stiffness=0.01, threads=1)
+    with tempfile.TemporaryDirectory() as tmp:
+        html = os.path.join(tmp, "r.html")
+        with open(html, "w", encoding="utf-8") as f:
+            f.write("x" * 10_000_000)
+        d.write_report(html)
+        assert open(html, encoding="utf-8").read() == d._html
+        assert os.listdir(tmp) == ["r.html"]

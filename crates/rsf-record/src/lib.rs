@@ -104,6 +104,9 @@ pub enum InvalidRows {
     Error,
     /// Drop such rows and count them ([`Summary::dropped_invalid`]).
     Drop,
+    /// Keep every value that reads as a number, NaN included: for tables of computed results
+    /// (a reference solution that stopped), never for lab records.
+    Keep,
 }
 
 /// Rows whose time equals the previous row's (loggers that write two rows per clock tick).
@@ -131,6 +134,13 @@ pub struct Spec {
     pub invalid: InvalidRows,
     /// Fewest data rows accepted ([`MIN_ROWS`] for a record).
     pub min_rows: usize,
+    /// Keep only rows whose increasing column, times `window_scale`, lies in this range
+    /// (either end open); the other columns of rows outside it are not checked (a record's
+    /// set-up before the part asked for may hold zeros or sentinels).
+    pub window: (Option<f64>, Option<f64>),
+    /// Factor from the increasing column's unit to the window's (e.g. 1e-3 for ms and a window
+    /// in s).
+    pub window_scale: f64,
 }
 
 impl Spec {
@@ -143,17 +153,21 @@ impl Spec {
             duplicates: DuplicateTimes::Error,
             invalid: InvalidRows::Error,
             min_rows: MIN_ROWS,
+            window: (None, None),
+            window_scale: 1.0,
         }
     }
-    /// Every column of a table whose header names `key`.
+    /// Every column of a table of computed results whose header names `key` (NaN kept).
     pub fn all(key: impl Into<String>) -> Self {
         Self {
             header_key: key.into(),
             columns: Columns::All,
             increasing: None,
             duplicates: DuplicateTimes::Error,
-            invalid: InvalidRows::Error,
+            invalid: InvalidRows::Keep,
             min_rows: 1,
+            window: (None, None),
+            window_scale: 1.0,
         }
     }
 }

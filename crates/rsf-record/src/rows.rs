@@ -81,7 +81,8 @@ fn number(cell: &[u8], delim: Delimiter) -> Option<f64> {
         return None;
     }
     s.parse::<f64>().ok().or_else(|| {
-        let decimal_comma = delim != Delimiter::Comma && s.bytes().filter(|&b| b == b',').count() == 1 && !s.contains('.');
+        let decimal_comma =
+            delim != Delimiter::Comma && s.bytes().filter(|&b| b == b',').count() == 1 && !s.contains('.');
         if decimal_comma { s.replace(',', ".").parse().ok() } else { None }
     })
 }
@@ -298,7 +299,9 @@ pub(crate) fn read<R: Read>(
             continue;
         }
         if let Some(pl) = pending_line {
-            state.row(&pending, pl, false, &mut summary, &mut visit).map_err(|(c, k)| err(Some(pl), c.as_deref(), k))?;
+            state
+                .row(&pending, pl, false, &mut summary, &mut visit)
+                .map_err(|(c, k)| err(Some(pl), c.as_deref(), k))?;
         }
         std::mem::swap(&mut rec, &mut pending);
         pending_line = Some(line);
@@ -373,6 +376,29 @@ impl RowState<'_> {
         }
     }
 
+    /// Checks that the increasing column's `t` follows the previous row's; false for a
+    /// repeated time that is dropped.
+    fn order(&mut self, t: f64, summary: &mut Summary) -> Result<bool, RowFault> {
+        let ti = self.spec.increasing.unwrap_or(0);
+        if let Some(prev) = self.previous {
+            let name = || Some(self.columns[ti].name.clone());
+            if t == prev {
+                return match self.spec.duplicates {
+                    DuplicateTimes::Drop => {
+                        summary.dropped_duplicates += 1;
+                        Ok(false)
+                    }
+                    DuplicateTimes::Error => Err((name(), ReadErrorKind::Repeated { value: t })),
+                };
+            }
+            if !(t > prev) {
+                return Err((name(), ReadErrorKind::NotIncreasing { value: t, previous: prev }));
+            }
+        }
+        self.previous = Some(t);
+        Ok(true)
+    }
+
     /// One non-blank row; `cut`: the file's last line, without a line end.
     fn row(
         &mut self,
@@ -404,12 +430,15 @@ impl RowState<'_> {
                 };
                 let off = candidate.map_or(0, |c| c.offset);
                 // unit and count rows before the first data row are passed over
-                let text_cell = self.selected.iter().enumerate().find(|&(_, &i)| {
-                    rec.get(i + off).is_none_or(|c| number(c, self.delim).is_none())
-                });
+                let text_cell = self
+                    .selected
+                    .iter()
+                    .enumerate()
+                    .find(|&(_, &i)| rec.get(i + off).is_none_or(|c| number(c, self.delim).is_none()));
                 if let Some((k, &i)) = text_cell {
                     if self.first_skipped.is_none() {
-                        let cell = rec.get(i + off).map(|c| short_cell(&decode_line(c.trim_ascii()).0)).unwrap_or_default();
+                        let cell =
+                            rec.get(i + off).map(|c| short_cell(&decode_line(c.trim_ascii()).0)).unwrap_or_default();
                         self.first_skipped = Some((line, self.columns[k].name.clone(), cell));
                     }
                     return Ok(());
@@ -421,8 +450,8 @@ impl RowState<'_> {
                         self.layout = Some(c);
                         c
                     }
-                    None if cut => return drop_cut(summary, "fewer fields than the header"),
-                    None => return Err((None, ReadErrorKind::Ragged { expected: h, found: n })),
+                    // a count row (xlook's `424645 recs …`) before the first data row
+                    None => return Ok(()),
                 }
             }
         };
@@ -445,6 +474,17 @@ impl RowState<'_> {
         if layout.offset == 1 {
             self.check_index(&rec[0])?;
         }
+        // the increasing column first: rows outside the window are not checked further
+        if let Some(ti) = self.spec.increasing {
+            let cell = &rec[self.selected[ti] + layout.offset];
+            if let Some(raw) = number(cell, self.delim) {
+                let t = raw * self.spec.window_scale;
+                let (lo, hi) = self.spec.window;
+                if lo.is_some_and(|a| t < a) || hi.is_some_and(|b| t > b) {
+                    return self.order(raw, summary).map(|_| ());
+                }
+            }
+        }
         for (k, &i) in self.selected.iter().enumerate() {
             let col = &self.columns[k];
             let cell = &rec[i + layout.offset];
@@ -452,8 +492,9 @@ impl RowState<'_> {
                 let text = short_cell(&decode_line(cell.trim_ascii()).0);
                 return Err((Some(col.name.clone()), ReadErrorKind::NotANumber { cell: text }));
             };
-            if let Some(kind) = invalid(v, col) {
+            if let Some(kind) = invalid(v, col).filter(|_| self.spec.invalid != InvalidRows::Keep) {
                 match self.spec.invalid {
+                    InvalidRows::Keep => {}
                     InvalidRows::Error => return Err((Some(col.name.clone()), kind)),
                     InvalidRows::Drop => {
                         summary.dropped_invalid += 1;
@@ -467,23 +508,9 @@ impl RowState<'_> {
             self.values[k] = v;
         }
         if let Some(ti) = self.spec.increasing {
-            let t = self.values[ti];
-            if let Some(prev) = self.previous {
-                let name = || Some(self.columns[ti].name.clone());
-                if t == prev {
-                    match self.spec.duplicates {
-                        DuplicateTimes::Drop => {
-                            summary.dropped_duplicates += 1;
-                            return Ok(());
-                        }
-                        DuplicateTimes::Error => return Err((name(), ReadErrorKind::Repeated { value: t })),
-                    }
-                }
-                if !(t > prev) {
-                    return Err((name(), ReadErrorKind::NotIncreasing { value: t, previous: prev }));
-                }
+            if !self.order(self.values[ti], summary)? {
+                return Ok(());
             }
-            self.previous = Some(t);
         }
         visit(line, &self.values).map_err(|e| {
             (e.column.and_then(|c| self.columns.get(c)).map(|c| c.name.clone()), ReadErrorKind::Invalid(e.message))

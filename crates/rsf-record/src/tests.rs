@@ -58,8 +58,14 @@ fn the_lab_formats_read_to_the_same_numbers() {
         ("units row", format!("time_s,lp,mu\ns,um,-\n{}", rows(12, ","))),
         ("preamble and comments", format!("Machine: BRAVA\nOperator: x\n# note\ntime_s,lp,mu\n\n{}", rows(12, ","))),
         ("trailing delimiter", rows(12, ",").lines().fold("time_s,lp,mu\n".to_string(), |a, l| a + l + ",\n")),
-        ("trailing delimiter in header too", rows(12, ",").lines().fold("time_s,lp,mu,\n".to_string(), |a, l| a + l + ",\n")),
-        ("leading index", rows(12, ",").lines().enumerate().fold("time_s,lp,mu\n".into(), |a, (i, l)| a + &format!("{i},{l}\n"))),
+        (
+            "trailing delimiter in header too",
+            rows(12, ",").lines().fold("time_s,lp,mu,\n".to_string(), |a, l| a + l + ",\n"),
+        ),
+        (
+            "leading index",
+            rows(12, ",").lines().enumerate().fold("time_s,lp,mu\n".into(), |a, (i, l)| a + &format!("{i},{l}\n")),
+        ),
         ("no final newline", format!("time_s,lp,mu\n{}", rows(12, ",").trim_end())),
         ("empty spreadsheet rows", format!("time_s,lp,mu\n{},,\n,,\n", rows(12, ","))),
     ];
@@ -132,7 +138,11 @@ fn ragged_rows_are_refused_with_line_and_counts() {
     // an extra field in one row
     let text = format!("time_s,lp,mu\n{}", rows(12, ",")).replacen("\n3,", "\n3,99,", 1);
     let e = fails(&text, &spec());
-    assert_eq!((e.line, e.to_string().contains("4 fields where the header and the rows before have 3")), (Some(8), true), "{e}");
+    assert_eq!(
+        (e.line, e.to_string().contains("4 fields where the header and the rows before have 3")),
+        (Some(8), true),
+        "{e}"
+    );
     // a missing field
     let text = format!("time_s,lp,mu\n{}", rows(12, ",")).replacen("\n3,16,", "\n3,", 1);
     assert!(matches!(fails(&text, &spec()).kind, ReadErrorKind::Ragged { expected: 3, found: 2 }));
@@ -190,7 +200,10 @@ fn broken_files_are_named() {
     let e = fails("time_s,lp,mu\nx,y,z\n", &spec());
     assert!(e.to_string().contains("line 2, the first after the header, has `x` in column `time_s`"), "{e}");
     let e = fails(&format!("time_s,lp,mu\n{}", rows(12, ",")).replacen("\n1.5,", "\n1,", 1), &spec());
-    assert!(e.to_string().contains("time 1 does not increase (previous 1)") || e.to_string().contains("repeats"), "{e}");
+    assert!(
+        e.to_string().contains("time 1 does not increase (previous 1)") || e.to_string().contains("repeats"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -203,4 +216,42 @@ fn a_table_reads_every_column() {
     assert_eq!(t.names, ["time_s", "lp", "mu"]);
     assert_eq!(t.column("lp").unwrap(), [10.0, 11.0, 12.0]);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn rows_outside_the_window_are_not_checked_and_tables_keep_nan() {
+    // set-up rows before the window hold a zero normal stress and a sentinel
+    let mut text = String::from("time_s,lp,sn\n");
+    for i in 0..30 {
+        let sn = if i < 10 { "0" } else { "10" };
+        let lp = if i == 3 { "-999999".to_string() } else { i.to_string() };
+        text += &format!("{i},{lp},{sn}\n");
+    }
+    let spec = Spec {
+        window: (Some(10.0), None),
+        ..Spec::timed(vec![Column::new("time_s"), Column::new("lp"), Column::positive("sn")])
+    };
+    let (r, _) = read(&text, &spec).unwrap();
+    assert_eq!((r.len(), r[0].1[0]), (20, 10.0));
+    // without the window, the zero is refused
+    assert!(read(&text, &Spec { window: (None, None), ..spec.clone() }).is_err());
+    // a window in s over a column in ms
+    let ms = Spec { window: (Some(0.010), Some(0.020)), window_scale: 1e-3, ..spec };
+    assert_eq!(read(&text, &ms).unwrap().0.len(), 11);
+    // a reference table keeps the NaN its solver wrote after it stopped
+    let (r, _) = read("time_s,mu\n0,0.6\n1,NaN\n", &Spec::all("time_s")).unwrap();
+    assert!(r[1].1[1].is_nan());
+}
+
+#[test]
+fn count_rows_before_the_first_data_row_are_passed_over() {
+    let mut text = String::from(
+        "number of records = 12\nLP_Disp Shr_stress Time mu\nmic MPa sec .\n12 recs 12 recs 12 recs 12 recs\n",
+    );
+    for i in 0..12 {
+        text += &format!("{} {} {} 0.69\n", 1000 + i, 4000.0 + i as f64, 2500.0 + i as f64 * 0.02);
+    }
+    let spec = Spec::timed(vec![Column::new("Time"), Column::new("LP_Disp"), Column::friction("mu")]);
+    let (r, _) = read(&text, &spec).unwrap();
+    assert_eq!((r.len(), r[1].1[0]), (12, 2500.02));
 }

@@ -94,10 +94,11 @@ fn record_errors_name_line_and_column() {
     let proto = GOOD.replace("[[loading.segment]]\nv = 0.003\nduration = 500.0\n", "record = \"run.csv\"\n");
     for (csv, needles) in [
         ("time_s,load_point_um\n0,0\n1,x\n", vec!["run.csv:3", "`load_point_um`", "`x` is not a number"]),
-        ("time_s,load_point_um\n0,0\n0,1\n", vec!["run.csv:3", "does not increase"]),
-        ("time_s,lp\n0,0\n1,1\n", vec!["no column `load_point_um`"]),
+        ("time_s,load_point_um\n0,0\n0,1\n", vec!["run.csv:3", "repeats the previous row's"]),
+        ("time_s,load_point_um\n1,0\n0,1\n", vec!["run.csv:3", "does not increase"]),
+        ("time_s,lp\n0,0\n1,1\n", vec!["column `load_point_um`: no such column"]),
         ("time_s,load_point_um\n0,0\n1,nan\n", vec!["run.csv:3", "not finite"]),
-        ("time_s,load_point_um\n0,0\n", vec!["at least two samples"]),
+        ("time_s,load_point_um\n0,0\n", vec!["1 data rows; at least 2"]),
     ] {
         std::fs::write(dir.join("run.csv"), csv).unwrap();
         let e = parse(&proto, Some(&dir), "p.toml").unwrap_err().to_string();

@@ -240,7 +240,13 @@ impl ReadOptions {
                 cols.extend(n.iter().map(Column::positive));
             }
         }
-        Ok(rsf_record::Spec { duplicates: self.duplicate_times, invalid: self.invalid, ..rsf_record::Spec::timed(cols) })
+        Ok(rsf_record::Spec {
+            duplicates: self.duplicate_times,
+            invalid: self.invalid,
+            window: (self.t_min, self.t_max),
+            window_scale: self.time_unit.to_s(),
+            ..rsf_record::Spec::timed(cols)
+        })
     }
 }
 
@@ -282,9 +288,6 @@ fn read_with(
     let shear = opts.shear_col.is_some();
     let mut visit = |_line: u64, v: &[f64]| {
         let t = v[0] * tf;
-        if opts.t_min.is_some_and(|a| t < a) || opts.t_max.is_some_and(|b| t > b) {
-            return Ok(());
-        }
         let (mu, sigma) = match (shear, v.len()) {
             (true, 4) => (v[2] / v[3], Some(v[3])),
             (true, _) => (v[2] / opts.normal_stress.unwrap_or(f64::NAN), None),

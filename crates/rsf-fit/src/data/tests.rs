@@ -62,7 +62,10 @@ fn bad_input_names_file_line_and_column() {
             format!("time_s,load_point_um,mu\n{}0.5,1,0.6\n", rows(12)),
             "f.csv:14: column `time_s`: time 0.5 does not increase",
         ),
-        (format!("time_s,load_point_um,mu\n{}5.0,1\n", rows(12)), "f.csv:14: 2 fields where the header and the rows before have 3"),
+        (
+            format!("time_s,load_point_um,mu\n{}5.0,1\n", rows(12)),
+            "f.csv:14: 2 fields where the header and the rows before have 3",
+        ),
         (format!("time_s,lp,mu\n{}", rows(12)), "f.csv:1: column `load_point_um`: no such column"),
         ("a,b,c\n1,2,3\n".to_string(), "no header line names the column `time_s`"),
         (format!("time_s,load_point_um,mu\n{}", rows(3)), "3 data rows; at least 10"),

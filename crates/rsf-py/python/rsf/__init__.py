@@ -239,9 +239,9 @@ class Diagnosis(_AttrDict):
         self._html = html
 
     def write_report(self, path: Union[str, os.PathLike]) -> None:
-        """Writes the self-contained HTML report (``rsf diagnose --report``)."""
-        with open(os.fspath(path), "w", encoding="utf-8") as f:
-            f.write(self._html)
+        """Writes the self-contained HTML report (``rsf diagnose --report``), as the CLI writes
+        its outputs: into a temporary file beside ``path``, renamed over it when complete."""
+        _write_atomic(os.fspath(path), self._html)
 
     def to_json(self, indent: Optional[int] = 2) -> str:
         return json.dumps(dict(self), indent=indent)
@@ -298,6 +298,27 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
     text = _to_toml(setup)
     base = os.path.dirname(os.path.abspath(setup.source)) if setup.source else None
     return SimulationResult(_rsf.simulate_toml(text, base, setup.source, laws=laws, **arrays))
+
+
+def _write_atomic(path: str, text: str) -> None:
+    """Writes ``text`` to ``path`` through a temporary file in the same folder, renamed over
+    ``path`` only when complete: an interrupted write leaves the old file, never a mix."""
+    import tempfile
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".rsf-partial", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
 
 
 def read_record(path: Union[str, os.PathLike], time_col: str = "time_s", lp_col: str = "load_point_um",
