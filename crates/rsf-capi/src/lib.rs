@@ -206,15 +206,21 @@ fn element(i: usize, st: RsfStatus) -> RsfStatus {
     fail(st, format!("element {i}: {}", last_message()))
 }
 
+/// Refuses a null array, or `n` values of `T` that no allocation can hold.
+fn addressable<T>(call: &str, what: &str, null: bool, n: usize) -> Result<(), RsfStatus> {
+    if null || n > isize::MAX as usize / size_of::<T>().max(1) {
+        return Err(fail(RsfStatus::RsfBadInput, format!("{call}: {what} is null or n = {n} is too large")));
+    }
+    Ok(())
+}
+
 /// `n` elements of `T` at `p`, refused when null or when `n` values cannot be addressed.
 ///
 /// # Safety
 /// When non-null, `p` must point to `n` valid values of `T` that nothing writes while the
 /// slice lives (the header's contract: arrays do not overlap).
 unsafe fn input<'a, T>(call: &str, what: &str, p: *const T, n: usize) -> Result<&'a [T], RsfStatus> {
-    if p.is_null() || n > isize::MAX as usize / size_of::<T>().max(1) {
-        return Err(fail(RsfStatus::RsfBadInput, format!("{call}: {what} is null or n = {n} is too large")));
-    }
+    addressable::<T>(call, what, p.is_null(), n)?;
     // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n reads and not
     // written meanwhile by the caller's contract
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
@@ -226,9 +232,7 @@ unsafe fn input<'a, T>(call: &str, what: &str, p: *const T, n: usize) -> Result<
 /// When non-null, `p` must point to `n` values of `T` that no other slice of the call
 /// overlaps (the header's contract).
 unsafe fn output<'a, T>(call: &str, what: &str, p: *mut T, n: usize) -> Result<&'a mut [T], RsfStatus> {
-    if p.is_null() || n > isize::MAX as usize / size_of::<T>().max(1) {
-        return Err(fail(RsfStatus::RsfBadInput, format!("{call}: {what} is null or n = {n} is too large")));
-    }
+    addressable::<T>(call, what, p.is_null(), n)?;
     // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n writes and
     // not aliased by the caller's contract
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })

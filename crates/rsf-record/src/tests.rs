@@ -14,12 +14,7 @@ fn spec() -> Spec {
 type Rows = Vec<(u64, Vec<f64>)>;
 
 fn read(text: &str, spec: &Spec) -> Result<(Rows, Summary), ReadError> {
-    let mut out = vec![];
-    let s = read_text(text, "f.csv", spec, |l, v| {
-        out.push((l, v.to_vec()));
-        Ok(())
-    })?;
-    Ok((out, s))
+    read_bytes(text.as_bytes(), spec)
 }
 
 fn read_bytes(bytes: &[u8], spec: &Spec) -> Result<(Rows, Summary), ReadError> {
@@ -241,17 +236,4 @@ fn rows_outside_the_window_are_not_checked_and_tables_keep_nan() {
     // a reference table keeps the NaN its solver wrote after it stopped
     let (r, _) = read("time_s,mu\n0,0.6\n1,NaN\n", &Spec::all("time_s")).unwrap();
     assert!(r[1].1[1].is_nan());
-}
-
-#[test]
-fn count_rows_before_the_first_data_row_are_passed_over() {
-    let mut text = String::from(
-        "number of records = 12\nLP_Disp Shr_stress Time mu\nmic MPa sec .\n12 recs 12 recs 12 recs 12 recs\n",
-    );
-    for i in 0..12 {
-        text += &format!("{} {} {} 0.69\n", 1000 + i, 4000.0 + i as f64, 2500.0 + i as f64 * 0.02);
-    }
-    let spec = Spec::timed(vec![Column::new("Time"), Column::new("LP_Disp"), Column::friction("mu")]);
-    let (r, _) = read(&text, &spec).unwrap();
-    assert_eq!((r.len(), r[1].1[0]), (12, 2500.02));
 }
