@@ -14,6 +14,7 @@ Units: time s, displacement um, velocity um/s, theta s, k 1/um, friction dimensi
 Integrated as y = (ln V, ln theta_i, delta), restarted exactly at every load-point break.
 """
 import argparse
+import sys
 import json
 import math
 import time
@@ -234,13 +235,10 @@ def sample_truth(rng, material, cause, size, sign, dc_lo, dc_hi, k_lo):
 
 
 # ---------------------------------------------------------------- records
-def plan(rng, quick):
-    """Cause, size, material and feature flags of every record, balanced within each cause."""
+def balanced(rng, groups, quick=False, extra=()):
+    """Specs for (cause, sizes) groups: material, holds and feature flags balanced within each
+    cause, in a blind (shuffled) order."""
     specs = []
-    groups = [("none", [None] * (6 if quick else 36))]
-    for cause, ladder in LADDERS.items():
-        idx = [0, 1, 3, 4] if quick else [i for i in range(5) for _ in range(3)]
-        groups.append((cause, [ladder[i] for i in idx]))
     for cause, sizes in groups:
         n = len(sizes)
         flags = {f: rng.permutation(np.arange(n) < (n + 1) // 2) for f in FEATURES}
@@ -250,9 +248,29 @@ def plan(rng, quick):
                 material = "gouge_vs" if size >= 1e-3 and (quick or i % 3 < 2) else "bare_rock"
             long_hold = (i // 2) % 2 == 0 if cause != "cutoff_velocity" else size < 1e-3
             specs.append(dict(cause=cause, size=size, material=material, long_hold=long_hold,
-                              features=[material] + [f for f in FEATURES if flags[f][i]]))
+                              features=[material, *extra] + [f for f in FEATURES if flags[f][i]]))
     order = rng.permutation(len(specs))                       # blind file names
     return [specs[i] for i in order]
+
+
+def plan(rng, quick):
+    """Cause, size, material and feature flags of every record, balanced within each cause."""
+    groups = [("none", [None] * (6 if quick else 36))]
+    for cause, ladder in LADDERS.items():
+        idx = [0, 1, 3, 4] if quick else [i for i in range(5) for _ in range(3)]
+        groups.append((cause, [ladder[i] for i in idx]))
+    return balanced(rng, groups, quick)
+
+
+def plan_drift(rng):
+    """The 1/f set (issue 21): every record carries 1/f noise of 0.5-2x the white noise's rms on
+    top of white (and, for half, AR(1)) noise: 32 with nothing hidden, half bare rock
+    (velocity weakening, holds up to 1e4 s) and half velocity-strengthening gouge; 16 with an
+    Aging/Slip mixture (aging share 0.1-0.75) and 16 with a cut-off velocity."""
+    mixture = [0.1, 0.25, 0.5, 0.75]
+    cutoff = [1e-6, 3e-6, 1e-5, 1e-4]
+    groups = [("none", [None] * 32), ("evolution_law", mixture * 4), ("cutoff_velocity", cutoff * 4)]
+    return balanced(rng, groups, extra=("pink_noise",))
 
 
 def size_label(cause, size):
@@ -261,9 +279,30 @@ def size_label(cause, size):
             "slip_trend": lambda s: f"g {s:g}", "stiffness": lambda s: f"k {s:g}x"}[cause](size)
 
 
+def pink_noise(rng, ts, rms):
+    """1/f noise in time (power ∝ 1/f from 1/T up): drawn on a uniform grid at the median
+    sampling interval by random-phase Fourier synthesis, linearly interpolated to ts, scaled to
+    the given rms."""
+    dt = float(np.median(np.diff(ts)))
+    n = int(min(2 ** 22, 2 ** math.ceil(math.log2((ts[-1] - ts[0]) / dt + 2))))
+    f = np.fft.rfftfreq(n, dt)
+    amp = np.zeros_like(f)
+    amp[1:] = f[1:] ** -0.5
+    spec = amp * (rng.standard_normal(len(f)) + 1j * rng.standard_normal(len(f)))
+    x = np.fft.irfft(spec, n)
+    grid = ts[0] + dt * np.arange(n)
+    y = np.interp(ts, grid, x)
+    y -= y.mean()
+    return y * rms / y.std()
+
+
 def add_noise(rng, feats, ts, mu, lp):
     sigma = math.exp(rng.uniform(math.log(1e-4), math.log(5e-4)))
     info = {"friction_sigma": sigma}
+    if "pink_noise" in feats:
+        ratio = rng.uniform(0.5, 2.0)                 # 1/f rms over the white sigma
+        mu = mu + pink_noise(rng, ts, ratio * sigma)
+        info["pink_rms_over_white"] = ratio
     if "ar1_noise" in feats:
         tau = rng.uniform(1, 5)
         phi = np.exp(-np.diff(ts) / tau)
@@ -332,9 +371,10 @@ def make_record(spec, rng):
     raise RuntimeError(f"no stable record for {spec}")
 
 
-def generate(out, seed, quick):
+def generate(out, seed, quick, drift=False):
     out.mkdir(parents=True, exist_ok=True)
-    specs, manifest, t_start = plan(np.random.default_rng(seed), quick), [], time.time()
+    specs = plan_drift(np.random.default_rng(seed)) if drift else plan(np.random.default_rng(seed), quick)
+    manifest, t_start = [], time.time()
     for i, spec in enumerate(specs):
         t1 = time.time()
         r = make_record(spec, np.random.default_rng([seed, i]))
@@ -354,6 +394,31 @@ def generate(out, seed, quick):
               f"spring={r['info'].pop('spring_check'):.1e} {time.time() - t1:.1f}s{flag}", flush=True)
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
     print(f"{len(specs)} records in {time.time() - t_start:.0f} s -> {out}")
+
+
+def issue21_case(path, seed=21):
+    """Issue 21's false alarm as one record: a plain one-state Slip-law gouge (a > b), the
+    staircase 1 -> 300 um/s and holds of 3-300 s at 10 um/s, 28,401 rows on one interval; noise
+    white 1.5e-4, AR(1) 5e-5 with tau = 1 s, and 1/f of rms 1.5e-4. Nothing is hidden."""
+    rng = np.random.default_rng([seed, 21])
+    dc = 30.0
+    segs, label = protocol_gouge(rng, dc, True)
+    dt = sum(s[0] for s in segs) / 28400
+    ends = np.cumsum([max(1, round(s[0] / dt)) for s in segs])
+    seg_t, ts = np.r_[0, ends] * dt, np.arange(ends[-1] + 1) * dt
+    seg_v = [s[1] for s in segs]
+    p = dict(mu0=0.6, a=0.011, b=[0.008], dc=[dc], laws=["slip"], vc=None, g=0.0, k=0.004, v0=seg_v[0])
+    Y, _ = simulate(p, seg_t, seg_v, ts)
+    mu = friction(p, Y, p["v0"])
+    phi = math.exp(-dt / 1.0)
+    xi, e = rng.standard_normal(len(ts)), np.empty(len(ts))
+    e[0] = 5e-5 * xi[0]
+    for i in range(1, len(ts)):
+        e[i] = phi * e[i - 1] + math.sqrt(1 - phi ** 2) * 5e-5 * xi[i]
+    mu = mu + 1.5e-4 * rng.standard_normal(len(ts)) + e + pink_noise(rng, ts, 1.5e-4)
+    table = np.column_stack([ts, load_point(seg_t, seg_v, ts), mu])
+    np.savetxt(path, table, fmt="%.10g", delimiter=",", header="time_s,load_point_um,mu", comments="")
+    print(f"{path}: {len(ts)} rows, {label}, k {p['k']}")
 
 
 # ---------------------------------------------------------------- integrator check
@@ -383,10 +448,15 @@ if __name__ == "__main__":
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--quick", action="store_true", help="about 1/5 of the set")
     ap.add_argument("--check", type=Path, metavar="REFDIR", help="compare with shared/reference")
+    ap.add_argument("--drift", action="store_true", help="the 1/f-noise set (32 none, 16 mixture, 16 cut-off)")
+    ap.add_argument("--issue21", type=Path, metavar="CSV", help="write issue 21's false-alarm record")
     args = ap.parse_args()
+    if args.issue21:
+        issue21_case(args.issue21)
+        sys.exit(0)
     if args.check:
         check(args.check)
     if args.out:
-        generate(args.out, args.seed, args.quick)
+        generate(args.out, args.seed, args.quick, args.drift)
     elif not args.check:
         ap.error("give --out DIR (and/or --check REFDIR)")

@@ -143,3 +143,27 @@ fn spikes_never_become_a_cause() {
     assert_eq!(d.spikes_removed, times);
     assert_eq!(d.cause, Cause::None, "{}", d.reason);
 }
+
+/// Issue 21's false alarm, made by the independent generator (`benches/detection/generate.py
+/// --issue21`): a plain one-state Slip-law gouge record (a > b, staircase 1 → 300 µm/s, holds of
+/// 3–300 s at 10 µm/s, 28,403 rows) with white (1.5e-4), AR(1) (5e-5, τ = 1 s) and 1/f noise
+/// (rms 1.5e-4). With white + AR(1) noise the diagnosis named a second state variable (ΔBIC −40.6
+/// with n_eff = 11,832 from the lag-one correlation, false-alarm probability 1.8e-51). The
+/// spectral noise model finds the drift, and nothing is named.
+#[test]
+fn one_over_f_drift_is_noise_not_a_cause() {
+    use rsf_fit::data::{ReadOptions, read_record};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/drift_gouge.csv");
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let d = diagnose(&rec, &segs, &options(0.004, LoadingMode::Protocol)).unwrap();
+    println!("{}", d.reason);
+    assert_eq!(d.cause, Cause::None, "{}", d.reason);
+    let m = d.evidence.noise.as_ref().unwrap();
+    // the injected drift: rms 1.5e-4 of 1/f noise, about half the residual variance
+    let drift = d.noise_drift.as_ref().expect("the drift is reported");
+    assert!((drift.rms / 1.5e-4 - 1.0).abs() < 0.3, "drift rms {}", drift.rms);
+    assert!((m.drift_beta - 1.0).abs() <= 0.3, "β {}", m.drift_beta);
+    assert!(m.n_effective < 0.01 * rec.len() as f64, "n_eff {}", m.n_effective);
+    assert!(d.reason.contains("slow drift"), "{}", d.reason);
+}

@@ -101,6 +101,9 @@ fn the_report_is_something_a_scientist_would_show() {
     }
     assert!(html.starts_with("<!doctype html>") && !html.contains("src=\"http") && html.contains("<svg"));
     assert!(html.contains("synthetic &lt;slip trend&gt;.txt"), "the name is escaped");
+    // the noise model, with the residual spectrum against the fitted model's
+    assert!(html.contains("<h2>Noise</h2>") && html.contains("residual spectrum of the baseline"), "no noise section");
+    assert!(html.contains("white noise rms") && html.contains("n_eff for a slow effect"));
     let text = visible(&html);
     // the verdict is the first paragraph, in words
     let body = &html[html.find("<body>").unwrap()..];

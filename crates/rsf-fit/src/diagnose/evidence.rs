@@ -2,6 +2,7 @@
 //! the reload-slope stiffness, and the information criteria of a comparison.
 
 use super::Evidence;
+use super::noise::NoiseModel;
 use crate::fit::{FitResult, Prepared};
 
 pub(super) fn lag1(r: &[f64]) -> f64 {
@@ -33,9 +34,10 @@ pub(super) fn slope_t(x: &[f64], y: &[f64], n_eff: f64) -> Option<(f64, f64)> {
     Some((slope, slope / se.max(1e-300)))
 }
 
-pub(super) fn evidence(base: &FitResult) -> Evidence {
+pub(super) fn evidence(base: &FitResult, bn: &Noisy) -> Evidence {
     let c = &base.curve;
-    let (res, rho, n_eff) = residual_correlation(base);
+    let (res, rho, _) = residual_correlation(base);
+    let n_eff = bn.model.n_effective;
     let n = res.len() as f64;
     let (slope, t) = slope_t(&c.load_point, &res, n_eff).unwrap_or((0.0, 0.0));
     let mut seg_rms: Vec<f64> = base.segments.iter().filter(|s| s.n > 0).map(|s| s.rms).collect();
@@ -48,6 +50,7 @@ pub(super) fn evidence(base: &FitResult) -> Evidence {
     Evidence {
         residual_lag1: rho,
         n_effective: n_eff,
+        noise: Some(bn.model.clone()),
         residual_trend_per_um: slope,
         residual_trend_t: t,
         segment_rms_ratio: seg_rms.last().copied().unwrap_or(0.0) / med.max(1e-300),
@@ -127,26 +130,59 @@ pub(super) fn reload_stiffness(p: &Prepared) -> Option<f64> {
     Some(ks[ks.len() / 2])
 }
 
-/// ΔBIC and ΔAIC of `ext` against `base` with the log-likelihood scaled to n_eff.
-pub(super) fn scores(base: &FitResult, ext: &FitResult, n_eff: f64) -> (f64, f64) {
-    let n = base.n as f64;
-    let dll = (ext.log_likelihood - base.log_likelihood) * n_eff / n;
-    let dk = ext.n_free as f64 - base.n_free as f64;
-    (-2.0 * dll + dk * n_eff.ln(), -2.0 * dll + 2.0 * dk)
+/// A fit's residuals with the noise model fitted to them, and their Whittle log-likelihood
+/// under it (the profile likelihood of the fit with its own best noise).
+pub(super) struct Noisy {
+    pub(super) model: NoiseModel,
+    pub(super) ll: f64,
 }
 
-/// A fit's residuals, their lag-one correlation ρ and the effective number of independent
-/// samples n (1 − ρ)/(1 + ρ).
-pub(super) fn residual_correlation(f: &FitResult) -> (Vec<f64>, f64, f64) {
+/// The residuals of `f` and their median sampling interval.
+fn residuals(f: &FitResult) -> (Vec<f64>, f64) {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
+    let mut dts: Vec<f64> = c.time.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    dts.sort_by(f64::total_cmp);
+    (res, dts.get(dts.len() / 2).copied().unwrap_or(1.0))
+}
+
+/// The noise of `f`'s residuals ([`NoiseModel`]) and their log-likelihood under it.
+pub(super) fn noisy(f: &FitResult) -> Noisy {
+    let (r, dt) = residuals(f);
+    let model = NoiseModel::fit(&r, dt);
+    let ll = model.log_likelihood(&r);
+    Noisy { model, ll }
+}
+
+/// ΔBIC and ΔAIC of `ext` against `base` (whose noise is `bn`): each with its own fitted noise
+/// (white, AR(1) and drift parts, [`NoiseModel`]), the Whittle log-likelihoods compared, the
+/// noise model's parameters counted with the friction model's. The likelihood being that of
+/// the correlated noise itself (not a white one rescaled), BIC's penalty per parameter is
+/// ln n of the samples.
+pub(super) fn scores(base: &FitResult, bn: &Noisy, ext: &FitResult) -> (f64, f64) {
+    let (dll, dk) = compare(base, bn, ext);
+    (-2.0 * dll + dk * (base.n.max(2) as f64).ln(), -2.0 * dll + 2.0 * dk)
+}
+
+/// Δln L of `ext` over `base` (each with its own fitted noise) and the parameters it adds,
+/// noise parameters included.
+pub(super) fn compare(base: &FitResult, bn: &Noisy, ext: &FitResult) -> (f64, f64) {
+    let en = noisy(ext);
+    let dk = (ext.n_free + en.model.parameters()) as f64 - (base.n_free + bn.model.parameters()) as f64;
+    (en.ll - bn.ll, dk)
+}
+
+/// A fit's residuals and their lag-one correlation ρ (reported; the noise model decides).
+pub(super) fn residual_correlation(f: &FitResult) -> (Vec<f64>, f64, f64) {
+    let (res, _) = residuals(f);
     let n = res.len() as f64;
     let rho = lag1(&res).clamp(-0.99, 0.99);
     let n_eff = (n * (1.0 - rho) / (1.0 + rho)).clamp(2.0, n);
     (res, rho, n_eff)
 }
 
-/// n_eff of a fit's residuals.
+/// n_eff of a fit's residuals under their fitted noise model.
 pub(super) fn n_eff_of(f: &FitResult) -> f64 {
-    residual_correlation(f).2
+    let (r, dt) = residuals(f);
+    NoiseModel::fit(&r, dt).n_effective
 }

@@ -8,10 +8,11 @@
 //!    (`evolution_law`), a second state variable (`second_state_variable`), the Kato–Tullis
 //!    cut-off (`cutoff_velocity`), a slip trend g·δ (`slip_trend`), a free stiffness
 //!    (`stiffness`).
-//! 4. Score each by ΔBIC computed with the *effective* number of independent samples: lab
-//!    residuals are correlated in time, and with n samples of AR(1) noise of lag-one
-//!    correlation ρ the data carry about n (1 − ρ)/(1 + ρ) independent values. Scaling the
-//!    log-likelihood difference by n_eff/n keeps correlated noise from passing for an effect.
+//! 4. Score each by ΔBIC under a noise model fitted to the residuals' spectrum (`noise.rs`:
+//!    white, AR(1) and 1/f-like drift parts, Whittle's likelihood): each model is scored with
+//!    its own fitted noise, so an extension gains only where its residuals become less like the
+//!    record's noise, and slow drift does not pass for an effect. n_eff, the information for a
+//!    slow effect, is n σ²/S(1/n): n (1 − ρ)/(1 + ρ) for AR(1), far less under drift.
 //! 5. Held-out test: fit on the first part of the record, predict the rest, before and after;
 //!    the extension starts from the baseline's training optimum, never from a fit that saw the
 //!    held-out part.
@@ -27,6 +28,7 @@
 //! |---|---|
 //! | `cause.rs` | the closed vocabulary of causes and the extension each applies |
 //! | `evidence.rs` | residual statistics, n_eff, reload-slope stiffness, ΔBIC/ΔAIC |
+//! | `noise.rs` | the residuals' noise model: spectrum fit, likelihood, synthesis |
 //! | `starts.rs` | fits of an extension from a nested optimum (and the Vc profile) |
 //! | `heldout.rs` | the held-out test: split, training part, prediction |
 //! | `timing.rs` | samples the protocol's break-time uncertainty cannot predict, left out |
@@ -43,6 +45,7 @@ mod decide;
 pub mod events;
 mod evidence;
 mod heldout;
+mod noise;
 mod null;
 mod parallel;
 mod reconstruction;
@@ -53,16 +56,26 @@ mod timing;
 
 pub use cause::{Cause, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
+pub use noise::{NoiseModel, NoiseStderr};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use parallel::par_map;
 pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,
 };
-pub use result::{Candidate, Diagnosis, Evidence, Gain, Secondary};
+pub use result::{Candidate, Diagnosis, Evidence, Gain, NoiseDrift, Secondary};
 pub use run::diagnose;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};
+
+/// A cut-off and an Aging/Slip mixture scoring within this ΔBIC of each other are reported as
+/// undecided: the scale on which ΔBIC = −10 is decisive; nearer than that, neither is.
+pub const UNDECIDED_DBIC: f64 = 10.0;
+
+/// The residuals' drift is reported (`Diagnosis::noise_drift`, the verdict's text) when it holds
+/// at least this share of their variance: 5% is where a drift's rms reaches a quarter of the
+/// residual rms, visible in a residual plot.
+pub const DRIFT_NOTE_SHARE: f64 = 0.05;
 
 use crate::fit::FitOptions;
 

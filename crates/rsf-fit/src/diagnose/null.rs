@@ -7,15 +7,16 @@
 //! calibration of a likelihood ratio fails where a parameter sits at a boundary (b2 → 0, Vc → 0).
 //! So the candidate's gain is compared with its distribution under the fitted baseline plus
 //! the fitted noise model, by parametric bootstrap: each replicate is the baseline's model
-//! curve plus noise with the residuals' σ and correlation time (an Ornstein–Uhlenbeck process
-//! in time, so variable sampling is honoured), refitted with the baseline and with the
-//! candidate exactly as the record was. With tens of replicates the far tail cannot be
-//! counted, so the replicates' gains G = −ΔBIC_eff + Δk ln n_eff (the likelihood-ratio statistic
-//! scaled by n_eff/n) are matched by moments to a scaled chi-square c·χ²_d (Satterthwaite), and
+//! curve plus noise drawn with the spectrum fitted to the candidate's residuals (white, AR(1) and
+//! 1/f-like drift parts, `noise.rs`), refitted with the baseline and with the candidate
+//! exactly as the record was. With tens of replicates the far tail cannot be counted, so the
+//! replicates' gains G = 2 Δln L (each model with its own fitted noise) are matched by moments
+//! to a scaled chi-square c·χ²_d (Satterthwaite), and
 //! the false-alarm probability is its upper tail at the observed gain. The count of replicates
 //! that reached the observed gain is reported beside it.
 
-use super::evidence::{residual_correlation, scores};
+use super::evidence::{Noisy, compare};
+use super::noise::NoiseModel;
 use crate::data::Record;
 use crate::fit::{FitResult, Prepared};
 use rand::SeedableRng;
@@ -50,38 +51,16 @@ pub struct NullCalibration {
     pub false_alarm_probability: f64,
 }
 
-/// The noise model of a fit's residuals: σ and the OU correlation time (s) that gives the
-/// residuals' lag-one correlation at the median sampling interval.
-pub(super) fn noise_model(f: &FitResult) -> (f64, f64) {
-    let (res, rho, _) = residual_correlation(f);
-    let n = res.len() as f64;
-    let mean = res.iter().sum::<f64>() / n;
-    let sigma = (res.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
-    let mut dts: Vec<f64> = f.curve.time.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
-    dts.sort_by(f64::total_cmp);
-    let dt = dts.get(dts.len() / 2).copied().unwrap_or(1.0);
-    let tau = if rho > 0.0 { -dt / rho.ln() } else { 0.0 };
-    (sigma, tau)
-}
-
-/// A replicate record: the baseline's model curve at the used samples plus OU noise.
-pub(super) fn replicate(p: &Prepared, base: &FitResult, sigma: f64, tau: f64, seed: u64) -> Record {
+/// A replicate record: the baseline's model curve at the used samples plus noise drawn from a
+/// fitted spectrum (the candidate's residuals'): white and AR(1) parts per sample, the drift
+/// part in time ([`NoiseModel::synthesize_at`]).
+pub(super) fn replicate(p: &Prepared, base: &FitResult, noise: &NoiseModel, seed: u64) -> Record {
     let mut rec = p.record.clone();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut e = 0.0;
-    let mut t_prev = None::<f64>;
+    let times: Vec<f64> = p.used.iter().map(|&i| rec.time[i]).collect();
+    let e = noise.synthesize_at(&times, &mut rng);
     for (r, &i) in p.used.iter().enumerate() {
-        let z: f64 = StandardNormal.sample(&mut rng);
-        let t = rec.time[i];
-        e = match t_prev {
-            Some(tp) if tau > 0.0 => {
-                let phi = (-(t - tp) / tau).exp();
-                phi * e + (1.0 - phi * phi).sqrt() * sigma * z
-            }
-            _ => sigma * z,
-        };
-        t_prev = Some(t);
-        rec.mu[i] = base.curve.model[r] + e;
+        rec.mu[i] = base.curve.model[r] + e[r];
     }
     rec
 }
@@ -99,11 +78,10 @@ pub(super) fn replicate_load_point(p: &Prepared, rec: &mut Record, sigma_x: f64,
     }
 }
 
-/// The gain G of `ext` over `base`: the n_eff-scaled likelihood-ratio statistic.
-pub(super) fn gain(base: &FitResult, ext: &FitResult, n_eff: f64) -> f64 {
-    let (dbic, _) = scores(base, ext, n_eff);
-    let dk = ext.n_free as f64 - base.n_free as f64;
-    -dbic + dk * n_eff.ln()
+/// The gain G of `ext` over `base` (noise `bn`): the likelihood-ratio statistic 2 Δln L, each
+/// model with its own fitted noise.
+pub(super) fn gain(base: &FitResult, bn: &Noisy, ext: &FitResult) -> f64 {
+    2.0 * compare(base, bn, ext).0
 }
 
 /// Calibrates the observed gain against the replicates' gains (`None` entries failed); `dk` is

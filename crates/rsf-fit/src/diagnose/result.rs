@@ -10,8 +10,14 @@ use std::collections::BTreeMap;
 pub struct Evidence {
     /// Lag-one autocorrelation of the baseline residuals.
     pub residual_lag1: f64,
-    /// Effective number of independent samples, n (1 − ρ)/(1 + ρ).
+    /// Effective number of independent samples for a slow effect under the fitted noise
+    /// model, n σ²/S(1/n): n (1 − ρ)/(1 + ρ) for AR(1) noise, far less under 1/f drift.
     pub n_effective: f64,
+    /// The baseline residuals' noise model, fitted to their spectrum: white, AR(1) and drift
+    /// parts with standard errors, the drift's share of the variance, and the binned
+    /// periodogram with the model's power (the report's residual-spectrum figure).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise: Option<super::NoiseModel>,
     /// Slope of the residuals against load-point displacement (friction per µm) and its t value.
     pub residual_trend_per_um: f64,
     /// t statistic of that slope with n_eff.
@@ -68,6 +74,9 @@ pub struct Candidate {
     /// gain. Its worse prediction then does not set it aside.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub heldout_uninformative: bool,
+    /// Share of the extended fit's residual variance in slow drift (its own noise model): a
+    /// slip trend that leaves drift behind is not told from the drift's slowest part.
+    pub drift_share_after: f64,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: BTreeMap<String, serde_json::Value>,
     /// Integrator steps of the candidate's fits (its work; deterministic, unlike wall time).
@@ -145,6 +154,17 @@ pub struct Diagnosis {
     pub effect: BTreeMap<String, serde_json::Value>,
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
+    /// When the record does not tell a cut-off velocity from a share of time-dependent healing
+    /// (both decisive and credible, within [`super::UNDECIDED_DBIC`]): both, the named cause
+    /// first, with their ΔBIC. Empty otherwise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub undecided: Vec<(Cause, f64)>,
+    /// Slow drift in the residuals of the model named (the baseline's for `none`), when the
+    /// noise model finds one holding at least
+    /// [`super::DRIFT_NOTE_SHARE`] of their variance: a property of the record (gouge layer,
+    /// temperature, servo or sensor drift) that the cause, if any, is named despite.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise_drift: Option<NoiseDrift>,
     /// All candidates.
     pub candidates: Vec<Candidate>,
     /// A second cause that decisively improves on the first extension, when one does.
@@ -165,4 +185,15 @@ pub struct Diagnosis {
     pub spikes_removed: Vec<f64>,
     /// The loading the diagnosis used.
     pub loading: crate::fit::LoadingMode,
+}
+
+/// How much slow drift a record's residuals carry (the noise model's power-law part).
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseDrift {
+    /// Its rms, friction units.
+    pub rms: f64,
+    /// Its share of the residual variance.
+    pub share: f64,
+    /// The spectral exponent β of S ∝ f^(−β).
+    pub beta: f64,
 }

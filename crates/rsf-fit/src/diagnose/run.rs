@@ -4,9 +4,9 @@
 use super::cause::{Cause, builtin, effect_of, other_law};
 use super::decide::{heldout_ok, ineligible, merge, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
-use super::evidence::{evidence, n_eff_of, reload_stiffness, scores};
+use super::evidence::{Noisy, evidence, noisy, reload_stiffness, scores};
 use super::heldout::{heldout, split_time};
-use super::null::{calibrate, gain, noise_model, replicate, replicate_load_point};
+use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
 use super::starts::{fit_from, slip_rate_range};
@@ -51,6 +51,8 @@ struct Ctx<'a> {
     base_law: String,
     p: Prepared,
     base: FitResult,
+    /// The baseline residuals' fitted noise and their likelihood under it.
+    base_noise: Noisy,
     ev: Evidence,
     /// The baseline's slip rates, µm/s (the span of the Vc profile).
     v_range: (f64, f64),
@@ -108,7 +110,7 @@ impl Ctx<'_> {
         cause: Cause,
         from: &Params,
         base: &FitResult,
-        n_eff: f64,
+        bn: &Noisy,
         threads: usize,
     ) -> Option<(String, FitOptions, Prepared, FitResult)> {
         self.variants(cause)
@@ -120,9 +122,10 @@ impl Ctx<'_> {
                 // difference of laws, not a share of time-dependent healing
                 let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
                 let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
-                ok.then_some((ext, o, pc, f))
+                ok.then(|| (scores(base, bn, &f).0, (ext, o, pc, f)))
             })
-            .min_by(|a, b| scores(base, &a.3, n_eff).0.total_cmp(&scores(base, &b.3, n_eff).0))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, v)| v)
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -145,8 +148,8 @@ impl Ctx<'_> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
         let threads = self.opts.threads;
         let (extension, o, pc, f) =
-            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, self.ev.n_effective, threads)?;
-        let (dbic, daic) = scores(&self.base, &f, self.ev.n_effective);
+            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, threads)?;
+        let (dbic, daic) = scores(&self.base, &self.base_noise, &f);
         // the training part is smaller than the record: its fit gets a multiple of the full
         // fit's work (a training fit wandering into a stiff corner must not dominate the run)
         let ho_steps = ((HELDOUT_WORK_FACTOR * f.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
@@ -165,12 +168,9 @@ impl Ctx<'_> {
         };
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
-        // the extension's gain on the training part alone (n_eff scaled to that part)
+        // the extension's gain on the training part alone
         let training_gain = match (&self.ho_base, &ho) {
-            (Some((_, ft_base)), Some((_, ft))) => {
-                let n_eff = self.ev.n_effective * ft_base.n as f64 / self.base.n as f64;
-                Some(scores(ft_base, ft, n_eff).0)
-            }
+            (Some((_, ft_base)), Some((_, ft))) => Some(scores(ft_base, &noisy(ft_base), ft).0),
             _ => None,
         };
         Some(Candidate {
@@ -183,6 +183,7 @@ impl Ctx<'_> {
             heldout_rms_after: ho.as_ref().map(|h| h.0),
             heldout_training_gain: training_gain,
             heldout_uninformative: dbic < BLIND_DECISIVE && self.training_blind(cause, &f, training_gain),
+            drift_share_after: noisy(&f).model.drift_share,
             effect: effect_of(&[cause], &f),
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
@@ -196,12 +197,16 @@ impl Ctx<'_> {
     /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
     /// each refitted with the baseline and with the candidate from the replicate's baseline.
     fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
-        let (sigma, tau) = noise_model(&self.base);
-        let observed = gain(&self.base, c.fit.as_ref()?, self.ev.n_effective);
+        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?);
+        // the replicates' noise: fitted to the candidate's residuals, not the baseline's — the
+        // baseline's hold its misfit too, which a noise model would read as drift and the null
+        // would then reproduce (as the F test takes the larger model's residual variance); a
+        // spurious candidate that absorbs drift leaves the rest of the drift in its residuals
+        let noise = noisy(c.fit.as_ref()?).model;
         let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
         let one = |seed: &u64| -> Option<f64> {
             let seed = *seed;
-            let mut rec = replicate(&self.p, &self.base, sigma, tau, seed);
+            let mut rec = replicate(&self.p, &self.base, &noise, seed);
             // a noisy load point: the replicate gets its own, and its own reconstructed protocol
             let segs = match self.lp_noise {
                 Some(sx) => {
@@ -216,10 +221,10 @@ impl Ctx<'_> {
             o.starts = 1;
             let pb = prepare(&rec, &segs, &o).ok()?;
             let fb = fit(&pb, &o).ok()?;
-            let n_eff = n_eff_of(&fb);
+            let nb = noisy(&fb);
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
-            let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, n_eff, 1)?;
-            Some(gain(&fb, &fc, n_eff))
+            let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1)?;
+            Some(gain(&fb, &nb, &fc))
         };
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
@@ -342,7 +347,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         _ => (base_opts, p, base, None),
     };
     lap("break-timing mask");
-    let mut ev = evidence(&base);
+    let base_noise = noisy(&base);
+    let mut ev = evidence(&base, &base_noise);
     ev.k_reload_slope = reload_stiffness(&p);
     let t_split = split_time(&p.record, &p.segments);
     // the baseline's held-out fit first: every extension's held-out fit starts from it
@@ -371,6 +377,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         base_law: base_opts.laws[0].name(),
         base_opts,
         p,
+        base_noise,
         base,
         ev,
         v_range,
@@ -424,7 +431,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     if opts.null_replicates > 0 {
         let mut tried = 0;
         for c in candidates.iter_mut() {
-            if !(c.delta_bic < DECISIVE) || ineligible(c, level).is_some() || tried == MAX_CALIBRATED {
+            // a candidate the held-out test cannot judge waits for the null's verdict
+            let awaiting = c.heldout_uninformative && c.null.is_none() && c.at_bound.is_empty();
+            if !(c.delta_bic < DECISIVE) || (ineligible(c, level).is_some() && !awaiting) || tried == MAX_CALIBRATED {
                 continue;
             }
             tried += 1;
@@ -458,8 +467,53 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         _ => None,
     };
     lap("combinations");
-    let (cause, reason, extended, gain, effect, confidence) =
+    let (cause, mut reason, extended, gain, effect, confidence) =
         verdict(ctx.ev.n_effective, chosen, &candidates, &rejected, &secondary);
+    // a cut-off and a share of time-dependent healing both strengthen long holds: when the
+    // other one is decisive and credible too and scores within UNDECIDED_DBIC, the record does
+    // not tell them apart, and the diagnosis says so with both scores
+    let undecided: Vec<(Cause, f64)> = match chosen.map(|c| c.cause) {
+        Some(first @ (Cause::CutoffVelocity | Cause::EvolutionLaw)) => {
+            let other = if first == Cause::CutoffVelocity { Cause::EvolutionLaw } else { Cause::CutoffVelocity };
+            let c1 = chosen.map_or(0.0, |c| c.delta_bic);
+            candidates
+                .iter()
+                .find(|c| {
+                    c.cause == other
+                        && c.delta_bic < DECISIVE
+                        && c.delta_bic - c1 < super::UNDECIDED_DBIC
+                        && heldout_ok(c.heldout_rms_before, c.heldout_rms_after)
+                        && c.at_bound.is_empty()
+                })
+                .map(|c2| vec![(first, c1), (other, c2.delta_bic)])
+                .unwrap_or_default()
+        }
+        _ => vec![],
+    };
+    if let [(a, da), (b, db)] = undecided[..] {
+        reason += &format!(
+            "; undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): the record does not tell them \
+             apart — a cut-off flattens healing only in holds whose slip rate falls below Vc, a share of \
+             time-dependent healing also changes the velocity steps (see rsf design)"
+        );
+    }
+    // the drift left in the residuals of the model named (the baseline's hold the named cause's
+    // misfit as well, which their noise model reads as drift)
+    let final_noise = match chosen.and_then(|c| c.fit.as_ref()) {
+        Some(f) => Some(noisy(f).model),
+        None => ctx.ev.noise.clone(),
+    };
+    let noise_drift = final_noise.as_ref().filter(|m| m.drift_share >= super::DRIFT_NOTE_SHARE).map(|m| {
+        super::NoiseDrift { rms: (m.drift_share * m.variance).sqrt(), share: m.drift_share, beta: m.drift_beta }
+    });
+    if let Some(d) = &noise_drift {
+        reason += &format!(
+            "; the residuals carry slow drift (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), counted as noise",
+            d.beta,
+            d.rms,
+            100.0 * d.share
+        );
+    }
     Ok(Diagnosis {
         cause,
         confidence,
@@ -469,6 +523,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         gain,
         effect,
         runner_up,
+        undecided,
+        noise_drift,
         secondary,
         per_segment,
         heldout_split_t: ctx.t_split,
@@ -487,7 +543,7 @@ fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> 
     let f1 = c1.fit.as_ref()?;
     let others: Vec<&Candidate> =
         decisive.iter().copied().filter(|c| ineligible(c, level).is_none() && c.cause != c1.cause).take(2).collect();
-    let n1 = n_eff_of(f1);
+    let nf1 = noisy(f1);
     let o1 = c1.options.clone()?;
     let threads = ctx.opts.threads;
     let tries = par_map(&others, threads, |c2| -> Option<Secondary> {
@@ -497,7 +553,7 @@ fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> 
         // fit (no second Vc profile, no second search for a soft machine)
         let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
         let f = ctx.fit_best(&pc, &o, &from, threads)?;
-        let (dbic, _) = scores(f1, &f, n1);
+        let (dbic, _) = scores(f1, &nf1, &f);
         // held out: from the two training optima, never from a fit that saw the held-out part
         let ho = match (&c1.heldout_fit, &c2.heldout_fit, ctx.opts.heldout) {
             (Some(ft1), Some(ft2), true) => {

@@ -163,6 +163,38 @@ pub fn residuals_svg(d: &Diagnosis) -> Result<String, PlotError> {
     render("", &[per_seg, per_v], 2, (490, 360))
 }
 
+/// The baseline residuals' spectrum (binned periodogram) and the fitted noise model's, log-log,
+/// with the white level and the drift part drawn on their own.
+pub fn noise_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let Some(m) = d.evidence.noise.as_ref().filter(|m| !m.periodogram.is_empty()) else {
+        return Err(PlotError("no noise model".into()));
+    };
+    let data: Vec<(f64, f64)> = m.periodogram.iter().filter(|p| p[1] > 0.0).map(|p| (p[0], p[1] * m.dt)).collect();
+    let model: Vec<(f64, f64)> = m.periodogram.iter().map(|p| (p[0], p[2] * m.dt)).collect();
+    let mut panel =
+        Panel::new("residual spectrum of the baseline", "frequency (Hz)", "power spectral density (friction²/Hz)")
+            .log_x()
+            .log_y()
+            .with(Series::dots("residuals (binned periodogram)".to_string(), data, BASELINE))
+            .with(Series::line("fitted noise model".to_string(), model, BLACK));
+    if m.drift_amplitude > 0.0 {
+        let n = m.n as f64;
+        let drift = m
+            .periodogram
+            .iter()
+            .map(|p| (p[0], m.drift_amplitude * (p[0] * m.dt * n).powf(-m.drift_beta) * m.dt))
+            .collect();
+        panel = panel.with(Series::dashed(format!("drift part, ∝ f^-{:.1}", m.drift_beta), drift, EXTENDED));
+    }
+    let (lo, hi) = (m.periodogram[0][0], m.periodogram[m.periodogram.len() - 1][0]);
+    panel = panel.with(Series::dashed(
+        "white part".to_string(),
+        vec![(lo, m.white_variance * m.dt), (hi, m.white_variance * m.dt)],
+        GREY,
+    ));
+    render("", &[panel], 1, (760, 380))
+}
+
 /// Per-event Dc against step size and against hold duration, with one-standard-error bars.
 /// Empty when there are fewer than two steps and two holds.
 pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {

@@ -21,7 +21,7 @@ mod charts;
 mod sections;
 mod words;
 
-pub use charts::{events_svg, fit_svg, fit_title, models_svg, residuals_svg};
+pub use charts::{events_svg, fit_svg, fit_title, models_svg, noise_svg, residuals_svg};
 pub use words::{effect_summary, param_rows, verdict};
 
 use crate::diagnose::Diagnosis;
@@ -85,6 +85,7 @@ pub fn diagnosis_html(d: &Diagnosis, name: &str) -> String {
         sections::parameters(d),
         sections::models(d),
         sections::residuals(d),
+        sections::noise(d),
         sections::events(d),
         sections::candidates(d),
         sections::evidence(d),

@@ -187,6 +187,58 @@ pub(super) fn residuals(d: &Diagnosis) -> String {
     format!("<h2>Where the residuals are</h2>{}\n", chart(charts::residuals_svg(d)))
 }
 
+/// The noise model of the baseline residuals: its parts with standard errors, the drift's
+/// share, n_eff, and the residual spectrum against the model's.
+pub(super) fn noise(d: &Diagnosis) -> String {
+    let Some(m) = &d.evidence.noise else { return String::new() };
+    let pm =
+        |v: f64, e: f64| if e.is_finite() { format!("{} ± {}", fmt_num(v, 3), fmt_num(e, 2)) } else { fmt_num(v, 3) };
+    let mut rows = vec![(
+        String::new(),
+        vec![
+            "<l>white noise rms".into(),
+            pm(m.white_variance.sqrt(), m.stderr.white_variance / (2.0 * m.white_variance.sqrt().max(1e-300))),
+        ],
+    )];
+    if m.ar1_variance > 0.0 {
+        rows.push((
+            String::new(),
+            vec![
+                "<l>AR(1) rms, correlation time (s)".into(),
+                format!("{}, {}", fmt_num(m.ar1_variance.sqrt(), 3), fmt_num(m.ar1_tau_s, 3)),
+            ],
+        ));
+    }
+    if m.drift_amplitude > 0.0 {
+        rows.push((
+            String::new(),
+            vec![
+                "<l>drift (1/f-like) rms, exponent β".into(),
+                format!(
+                    "{}, {}",
+                    fmt_num((m.drift_share * m.variance).sqrt(), 3),
+                    pm(m.drift_beta, m.stderr.drift_beta)
+                ),
+            ],
+        ));
+    }
+    rows.push((
+        String::new(),
+        vec!["<l>drift share of the residual variance".into(), format!("{:.1}%", 100.0 * m.drift_share)],
+    ));
+    rows.push((
+        String::new(),
+        vec!["<l>n_eff for a slow effect (of n samples)".into(), format!("{} of {}", fmt_num(m.n_effective, 3), m.n)],
+    ));
+    format!(
+        "<h2>Noise</h2><p>The baseline residuals' spectrum, fitted by Whittle's likelihood with a white, an \
+         AR(1) and a power-law (drift) part; each model is scored with its own fitted noise, and the null \
+         replicates draw this spectrum.</p>{}{}\n",
+        table("", &["part", "value"], &rows),
+        chart(charts::noise_svg(d))
+    )
+}
+
 /// Per-event refits: Dc against step size and hold, and their table.
 pub(super) fn events(d: &Diagnosis) -> String {
     if d.per_segment.is_empty() {

@@ -1,0 +1,526 @@
+//! The noise model of a record's residuals, fitted to their spectrum: white noise, an AR(1)
+//! (Lorentzian) part and a power-law part S ∝ f^(−β) — the slow 1/f-like drift of real friction
+//! records (gouge layer evolution, temperature, servo and sensor drift).
+//!
+//! **Estimate.** The periodogram of the residuals (sample index as time; the median sampling
+//! interval converts to Hz), averaged in bins of logarithmically growing width, is fitted by
+//! the Whittle likelihood −Σ m_b (ln S_b + Ī_b/S_b). The shape parameters (β, φ) are searched
+//! on a grid; at each grid point the three non-negative amplitudes are found by Whittle's
+//! scoring (iteratively reweighted least squares with weights m/S²). Standard errors: the
+//! Fisher information of the amplitudes, and the curvature of the profile likelihood along β
+//! and φ.
+//!
+//! **Use.** The likelihood of a model's residuals under this noise is the Whittle quadratic
+//! form Q(r) = Σ_j |R_j|²/(n S(f_j)) (the Gaussian rᵀΣ⁻¹r for a stationary covariance Σ), so
+//! an extension's gain is Q(r_base) − Q(r_ext): an improvement at frequencies where the noise
+//! has much power (slow drift) counts for little, one at frequencies where it is quiet (a
+//! transient after a step) for much. The information for a slowly varying effect is
+//! n_eff = n σ²/S(f₁) at the lowest resolved frequency f₁ = 1/n: n for white noise,
+//! n(1 − ρ)/(1 + ρ) for AR(1), far less under 1/f drift. The null replicates draw noise with
+//! the fitted spectrum ([`NoiseModel::synthesize`]).
+
+use rand_distr::{Distribution, StandardNormal};
+use rustfft::FftPlanner;
+use rustfft::num_complex::Complex;
+use serde::Serialize;
+
+/// Periodogram ordinates kept one by one at the lowest frequencies, where a drift's power is.
+const SINGLE_BINS: usize = 12;
+/// Bins grow by this factor above them: ~150 bins for 10⁵ samples.
+const BIN_GROWTH: f64 = 1.06;
+/// Power-law exponents tried: from mild (β = 0.4) to a random walk (β = 2).
+const BETAS: [f64; 9] = [0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0];
+/// AR(1) coefficients per sample tried (0: no AR part).
+const PHIS: [f64; 12] = [0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.998, 0.999];
+/// The drift of a replicate is drawn on at most this many time points (a 10⁵ s record at
+/// 25 ms), then interpolated.
+const MAX_DRIFT_GRID: usize = 1 << 22;
+/// Whittle scoring iterations per grid point (converged to < 1e-6 in the amplitudes well before).
+const SCORING_ITERATIONS: usize = 12;
+
+/// The fitted noise spectrum of a residual series, per sample: S(f) for f in cycles per sample
+/// (0 < f ≤ 1/2), normalised so that white noise of variance σ² has S = σ².
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseModel {
+    /// White-noise variance.
+    pub white_variance: f64,
+    /// AR(1) part: its variance and lag-one coefficient per sample.
+    pub ar1_variance: f64,
+    /// AR(1) coefficient per sample.
+    pub ar1_phi: f64,
+    /// AR(1) correlation time, s (−dt/ln φ; 0 without an AR part).
+    pub ar1_tau_s: f64,
+    /// Power-law part: S = `drift_amplitude` · (f n)^(−β), its power at the lowest resolved
+    /// frequency 1/n.
+    pub drift_amplitude: f64,
+    /// The power-law exponent β (1: flicker noise; 2: a random walk).
+    pub drift_beta: f64,
+    /// Standard errors of white variance, AR(1) variance, drift amplitude, β and φ (NaN where
+    /// the likelihood does not bound them).
+    pub stderr: NoiseStderr,
+    /// Residual variance.
+    pub variance: f64,
+    /// Share of the residual variance in the power-law (drift) part.
+    pub drift_share: f64,
+    /// Effective number of independent samples for a slowly varying effect, n σ²/S(1/n).
+    pub n_effective: f64,
+    /// Samples.
+    pub n: usize,
+    /// Median sampling interval, s.
+    pub dt: f64,
+    /// The binned periodogram the model was fitted to: frequency (Hz), mean power, and the
+    /// model's power there (the residual-spectrum figure of the report).
+    pub periodogram: Vec<[f64; 3]>,
+}
+
+/// Standard errors of the noise model's parameters.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct NoiseStderr {
+    /// Of the white variance.
+    pub white_variance: f64,
+    /// Of the AR(1) variance.
+    pub ar1_variance: f64,
+    /// Of the drift amplitude.
+    pub drift_amplitude: f64,
+    /// Of β.
+    pub drift_beta: f64,
+    /// Of φ.
+    pub ar1_phi: f64,
+}
+
+/// The three spectral shapes at frequency `f` (cycles per sample) for `n` samples.
+fn basis(f: f64, n: usize, beta: f64, phi: f64) -> [f64; 3] {
+    let ar = if phi > 0.0 {
+        (1.0 - phi * phi) / (1.0 - 2.0 * phi * (std::f64::consts::TAU * f).cos() + phi * phi)
+    } else {
+        0.0
+    };
+    [1.0, ar, (f * n as f64).powf(-beta)]
+}
+
+/// |DFT|²/n at the frequencies j/n, j = 1..=n/2.
+pub(super) fn periodogram(r: &[f64]) -> Vec<f64> {
+    let n = r.len();
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let mut buf: Vec<Complex<f64>> = r.iter().map(|x| Complex::new(x - mean, 0.0)).collect();
+    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    (1..=n / 2).map(|j| buf[j].norm_sqr() / n as f64).collect()
+}
+
+/// Bins of the periodogram: (mean frequency in cycles per sample, mean power, ordinates).
+fn bins(p: &[f64], n: usize) -> Vec<(f64, f64, f64)> {
+    let mut out = vec![];
+    let mut j = 0;
+    while j < p.len() {
+        let width = if j < SINGLE_BINS { 1 } else { ((j as f64) * (BIN_GROWTH - 1.0)).ceil().max(1.0) as usize };
+        let end = (j + width).min(p.len());
+        let m = (end - j) as f64;
+        let f = (j + 1..=end).map(|k| k as f64 / n as f64).sum::<f64>() / m;
+        out.push((f, p[j..end].iter().sum::<f64>() / m, m));
+        j = end;
+    }
+    out
+}
+
+/// −Whittle log-likelihood of binned power under amplitudes `a` of the basis.
+fn whittle(b: &[(f64, f64, f64)], x: &[[f64; 3]], a: &[f64; 3]) -> f64 {
+    b.iter()
+        .zip(x)
+        .map(|(&(_, ibar, m), xb)| {
+            let s = (a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]).max(1e-300);
+            m * (s.ln() + ibar / s)
+        })
+        .sum()
+}
+
+/// The non-negative amplitudes that maximise the Whittle likelihood for one shape, by scoring
+/// over each subset of the three parts; returns them and −log-likelihood plus the BIC
+/// penalty of the parts used (`penalty` per parameter: an AR or drift part costs two, its
+/// amplitude and its shape), so that a part is kept only when the spectrum needs it — a chance
+/// excess in the few lowest ordinates must not become a drift.
+fn amplitudes(b: &[(f64, f64, f64)], x: &[[f64; 3]], var: f64, has_ar: bool, penalty: f64) -> ([f64; 3], f64) {
+    let cost = |a: &[f64; 3]| {
+        let k = 1 + 2 * usize::from(a[1] > 0.0) + 2 * usize::from(a[2] > 0.0);
+        whittle(b, x, a) + penalty * k as f64
+    };
+    let mut best = ([var, 0.0, 0.0], cost(&[var, 0.0, 0.0]));
+    for mask in 1u8..8 {
+        if mask & 2 != 0 && !has_ar {
+            continue;
+        }
+        let on: Vec<usize> = (0..3).filter(|k| mask & (1 << k) != 0).collect();
+        let mut a = [0.0; 3];
+        for &k in &on {
+            a[k] = var / on.len() as f64;
+        }
+        let mut ok = true;
+        for _ in 0..SCORING_ITERATIONS {
+            // weighted normal equations: Σ m/S² x xᵀ a = Σ m/S² x Ī
+            let mut h = [[0.0; 3]; 3];
+            let mut g = [0.0; 3];
+            for (&(_, ibar, m), xb) in b.iter().zip(x) {
+                let s = (a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]).max(1e-300);
+                let w = m / (s * s);
+                for &i in &on {
+                    g[i] += w * xb[i] * ibar;
+                    for &j in &on {
+                        h[i][j] += w * xb[i] * xb[j];
+                    }
+                }
+            }
+            let Some(sol) = solve_small(&h, &g, &on) else {
+                ok = false;
+                break;
+            };
+            if on.iter().any(|&k| !(sol[k] > 0.0)) {
+                ok = false;
+                break;
+            }
+            a = sol;
+        }
+        if ok {
+            let v = cost(&a);
+            if v < best.1 {
+                best = (a, v);
+            }
+        }
+    }
+    best
+}
+
+/// Solves the rows/columns `on` of h a = g (at most 3×3) by Gaussian elimination.
+fn solve_small(h: &[[f64; 3]; 3], g: &[f64; 3], on: &[usize]) -> Option<[f64; 3]> {
+    let k = on.len();
+    let mut m = [[0.0; 4]; 3];
+    for (r, &i) in on.iter().enumerate() {
+        for (c, &j) in on.iter().enumerate() {
+            m[r][c] = h[i][j];
+        }
+        m[r][3] = g[i];
+    }
+    for c in 0..k {
+        let p = (c..k).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))?;
+        m.swap(c, p);
+        if !(m[c][c].abs() > 1e-300) {
+            return None;
+        }
+        for r in 0..k {
+            if r != c {
+                let f = m[r][c] / m[c][c];
+                for cc in c..4 {
+                    m[r][cc] -= f * m[c][cc];
+                }
+            }
+        }
+    }
+    let mut out = [0.0; 3];
+    for (r, &i) in on.iter().enumerate() {
+        out[i] = m[r][3] / m[r][r];
+    }
+    Some(out)
+}
+
+/// Standard error of a grid parameter from the profile likelihood's curvature at the best
+/// point (NaN at the grid's edge or where the curvature is not positive).
+fn grid_stderr(grid: &[f64], nll: &[f64], i: usize) -> f64 {
+    if i == 0 || i + 1 >= grid.len() {
+        return f64::NAN;
+    }
+    let (x0, x1, x2) = (grid[i - 1], grid[i], grid[i + 1]);
+    let (y0, y1, y2) = (nll[i - 1], nll[i], nll[i + 1]);
+    // second derivative of a parabola through three unevenly spaced points
+    let d2 = 2.0 * ((y2 - y1) / (x2 - x1) - (y1 - y0) / (x1 - x0)) / (x2 - x0);
+    if d2 > 0.0 { (1.0 / d2).sqrt() } else { f64::NAN }
+}
+
+impl NoiseModel {
+    /// Fits the model to residuals `r` sampled every `dt` seconds (median interval).
+    pub fn fit(r: &[f64], dt: f64) -> NoiseModel {
+        let n = r.len();
+        let mean = r.iter().sum::<f64>() / n.max(1) as f64;
+        let var = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n.max(1) as f64;
+        if n < 16 || !(var > 0.0) {
+            return Self::white(var.max(0.0), n, dt);
+        }
+        let p = periodogram(r);
+        let b = bins(&p, n);
+        // BIC on the Whittle likelihood: ½ ln N per parameter, N the periodogram ordinates
+        let penalty = 0.5 * (p.len() as f64).ln();
+        let mut best = (f64::INFINITY, 0, 0, [var, 0.0, 0.0]);
+        let mut table = vec![vec![f64::INFINITY; PHIS.len()]; BETAS.len()];
+        for (ib, &beta) in BETAS.iter().enumerate() {
+            for (ip, &phi) in PHIS.iter().enumerate() {
+                let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n, beta, phi)).collect();
+                let (a, v) = amplitudes(&b, &x, var, phi > 0.0, penalty);
+                table[ib][ip] = v;
+                if v < best.0 {
+                    best = (v, ib, ip, a);
+                }
+            }
+        }
+        let (_, ib, ip, a) = best;
+        let (beta, phi) = (BETAS[ib], PHIS[ip]);
+        let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n, beta, phi)).collect();
+        // Fisher information of the amplitudes: Σ m x_i x_j / S²
+        let mut info = [[0.0; 3]; 3];
+        for (&(_, _, m), xb) in b.iter().zip(&x) {
+            let s = (a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]).max(1e-300);
+            for i in 0..3 {
+                for j in 0..3 {
+                    info[i][j] += m * xb[i] * xb[j] / (s * s);
+                }
+            }
+        }
+        let on: Vec<usize> = (0..3).filter(|&k| a[k] > 0.0).collect();
+        let mut se = [f64::NAN; 3];
+        for (col, &k) in on.iter().enumerate() {
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            if let Some(c) = solve_small(&info, &e, &on) {
+                se[k] = c[k].max(0.0).sqrt();
+            }
+            let _ = col;
+        }
+        let beta_profile: Vec<f64> = (0..BETAS.len()).map(|i| table[i][ip]).collect();
+        let phi_profile: Vec<f64> = table[ib].clone();
+        let model_power = |f: f64| {
+            let xb = basis(f, n, beta, phi);
+            a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]
+        };
+        // the drift part's share of the variance: ∫ S_drift df over the resolved band, as
+        // the sum over the Fourier frequencies (two-sided: ×2/n)
+        let drift_var: f64 = (1..=n / 2).map(|j| a[2] * (j as f64).powf(-beta)).sum::<f64>() * 2.0 / n as f64;
+        let s1 = model_power(1.0 / n as f64);
+        NoiseModel {
+            white_variance: a[0],
+            ar1_variance: a[1],
+            ar1_phi: phi,
+            ar1_tau_s: if phi > 0.0 { -dt / phi.ln() } else { 0.0 },
+            drift_amplitude: a[2],
+            drift_beta: beta,
+            stderr: NoiseStderr {
+                white_variance: se[0],
+                ar1_variance: se[1],
+                drift_amplitude: se[2],
+                drift_beta: if a[2] > 0.0 { grid_stderr(&BETAS, &beta_profile, ib) } else { f64::NAN },
+                ar1_phi: if a[1] > 0.0 { grid_stderr(&PHIS, &phi_profile, ip) } else { f64::NAN },
+            },
+            variance: var,
+            drift_share: (drift_var / var).clamp(0.0, 1.0),
+            n_effective: (n as f64 * var / s1).clamp(2.0, n as f64),
+            n,
+            dt,
+            periodogram: b.iter().map(|&(f, ibar, _)| [f / dt, ibar, model_power(f)]).collect(),
+        }
+    }
+
+    /// White noise of variance `var`.
+    pub fn white(var: f64, n: usize, dt: f64) -> NoiseModel {
+        NoiseModel {
+            white_variance: var,
+            ar1_variance: 0.0,
+            ar1_phi: 0.0,
+            ar1_tau_s: 0.0,
+            drift_amplitude: 0.0,
+            drift_beta: BETAS[0],
+            stderr: NoiseStderr::default(),
+            variance: var,
+            drift_share: 0.0,
+            n_effective: n.max(2) as f64,
+            n,
+            dt,
+            periodogram: vec![],
+        }
+    }
+
+    /// S at `f` cycles per sample, for a series of `n` samples (the drift part's scale is set
+    /// by the series the model was fitted to).
+    pub fn power(&self, f: f64) -> f64 {
+        let xb = basis(f, self.n, self.drift_beta, self.ar1_phi);
+        (self.white_variance * xb[0] + self.ar1_variance * xb[1] + self.drift_amplitude * xb[2]).max(1e-300)
+    }
+
+    /// Parameters of the model: the white variance, and an amplitude and a shape for each of
+    /// the AR(1) and drift parts it uses.
+    pub fn parameters(&self) -> usize {
+        1 + 2 * usize::from(self.ar1_variance > 0.0) + 2 * usize::from(self.drift_amplitude > 0.0)
+    }
+
+    /// The Whittle log-likelihood of residuals `r` under this spectrum,
+    /// −Σ_j (ln S(f_j) + I_j/S(f_j)) over the Fourier frequencies 0 < f_j ≤ 1/2 (the mean left
+    /// out): for white noise of the residuals' own variance, (n/2)(−ln σ² − 1), the Gaussian
+    /// log-likelihood of a least-squares fit up to a constant.
+    pub fn log_likelihood(&self, r: &[f64]) -> f64 {
+        let n = r.len();
+        if n < 2 {
+            return 0.0;
+        }
+        periodogram(r)
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let s = self.power((k + 1) as f64 / n as f64);
+                -(s.ln() + i / s)
+            })
+            .sum()
+    }
+
+    /// The Whittle quadratic form Q(r) = Σ_j |R_j|²/(n S(f_j)), two-sided, the mean left out
+    /// (every model fits μ0): rᵀΣ⁻¹r for the fitted stationary covariance.
+    pub fn quadratic_form(&self, r: &[f64]) -> f64 {
+        let n = r.len();
+        if n < 2 {
+            return 0.0;
+        }
+        let p = periodogram(r);
+        let sum: f64 = p
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let j = k + 1;
+                // the Nyquist ordinate (n even) appears once, the others twice
+                let w = if 2 * j == n { 1.0 } else { 2.0 };
+                w * i / self.power(j as f64 / n as f64)
+            })
+            .sum();
+        sum
+    }
+
+    /// Noise at the sample `times` (s): the white and AR(1) parts per sample, the drift part in
+    /// time — drawn on a uniform grid at the model's median interval and interpolated — so
+    /// that a record sampled densely after steps and sparsely in holds gets its drift where
+    /// real drift is, in time, not in sample count.
+    pub fn synthesize_at<R: rand::Rng + ?Sized>(&self, times: &[f64], rng: &mut R) -> Vec<f64> {
+        let n = times.len();
+        let short = NoiseModel { drift_amplitude: 0.0, ..self.clone() };
+        let mut e = short.synthesize(n, rng);
+        if self.drift_amplitude > 0.0 && n > 1 && self.dt > 0.0 {
+            let t0 = times[0];
+            let span = times[n - 1] - t0;
+            let m = ((span / self.dt).ceil() as usize + 2).min(MAX_DRIFT_GRID);
+            let step = span / (m - 1) as f64;
+            let drift = NoiseModel { white_variance: 0.0, ar1_variance: 0.0, ..self.clone() };
+            let grid = drift.synthesize(m, rng);
+            for (x, &t) in e.iter_mut().zip(times) {
+                let u = ((t - t0) / step).clamp(0.0, (m - 1) as f64);
+                let k = (u.floor() as usize).min(m - 2);
+                let w = u - k as f64;
+                *x += grid[k] * (1.0 - w) + grid[k + 1] * w;
+            }
+        }
+        e
+    }
+
+    /// A series of `n` samples with this spectrum (Gaussian, stationary): drawn by spectral
+    /// synthesis on 2n samples, of which the first n are kept (no wrap-around at the ends).
+    pub fn synthesize<R: rand::Rng + ?Sized>(&self, n: usize, rng: &mut R) -> Vec<f64> {
+        let m = 2 * n.max(1);
+        let mut buf = vec![Complex::new(0.0, 0.0); m];
+        for j in 1..=m / 2 {
+            // frequencies of the doubled series, in cycles per sample
+            let f = j as f64 / m as f64;
+            let s = self.power(f) * m as f64;
+            let (z1, z2): (f64, f64) = (StandardNormal.sample(rng), StandardNormal.sample(rng));
+            if 2 * j == m {
+                buf[j] = Complex::new(s.sqrt() * z1, 0.0);
+            } else {
+                let c = Complex::new(z1, z2) * (s / 2.0).sqrt();
+                buf[j] = c;
+                buf[m - j] = c.conj();
+            }
+        }
+        FftPlanner::new().plan_fft_inverse(m).process(&mut buf);
+        buf[..n].iter().map(|c| c.re / m as f64).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn white(n: usize, s: f64, seed: u64) -> Vec<f64> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        (0..n)
+            .map(|_| {
+                let z: f64 = StandardNormal.sample(&mut rng);
+                s * z
+            })
+            .collect()
+    }
+
+    /// AR(1) by its recursion — a generator other than the spectral synthesis under test.
+    fn ar1(n: usize, s: f64, phi: f64, seed: u64) -> Vec<f64> {
+        let z = white(n, s, seed);
+        let mut e = vec![z[0]; n];
+        for i in 1..n {
+            e[i] = phi * e[i - 1] + (1.0 - phi * phi).sqrt() * z[i];
+        }
+        e
+    }
+
+    /// A random walk's increments summed: β = 2 drift (also not by spectral synthesis).
+    fn walk(n: usize, s: f64, seed: u64) -> Vec<f64> {
+        let z = white(n, s, seed);
+        z.iter()
+            .scan(0.0, |acc, x| {
+                *acc += x;
+                Some(*acc)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn white_noise_is_found_white() {
+        let r = white(20_000, 2e-4, 1);
+        let m = NoiseModel::fit(&r, 0.1);
+        assert!((m.white_variance / 4e-8 - 1.0).abs() < 0.05, "{m:?}");
+        assert!(m.drift_share < 0.01 && m.n_effective > 0.8 * 20_000.0, "{} {}", m.drift_share, m.n_effective);
+    }
+
+    #[test]
+    fn ar1_noise_gives_the_lag_one_n_eff() {
+        let r = ar1(20_000, 2e-4, 0.9, 2);
+        let m = NoiseModel::fit(&r, 0.1);
+        let lag1 = n_eff_ar1(0.9, 20_000.0);
+        assert!((m.n_effective / lag1 - 1.0).abs() < 0.35, "n_eff {} vs {lag1}: {m:?}", m.n_effective);
+        assert!((m.ar1_phi - 0.9).abs() < 0.06 && m.drift_share < 0.2, "{m:?}");
+    }
+
+    fn n_eff_ar1(rho: f64, n: f64) -> f64 {
+        n * (1.0 - rho) / (1.0 + rho)
+    }
+
+    #[test]
+    fn drift_on_white_noise_is_measured() {
+        let w = white(30_000, 2e-4, 3);
+        let d = walk(30_000, 2e-6, 4);
+        let r: Vec<f64> = w.iter().zip(&d).map(|(a, b)| a + b).collect();
+        let m = NoiseModel::fit(&r, 0.1);
+        let var_d = d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64;
+        assert!(m.drift_amplitude > 0.0 && m.drift_beta >= 1.6, "{m:?}");
+        assert!(m.drift_share > 0.3 * var_d / (var_d + 4e-8), "share {} vs {}", m.drift_share, var_d / (var_d + 4e-8));
+        // far less information for a slow effect than the lag-one correlation claims
+        assert!(m.n_effective < 0.05 * 30_000.0, "{}", m.n_effective);
+    }
+
+    #[test]
+    fn synthesis_reproduces_the_spectrum_it_is_given() {
+        let model = NoiseModel::fit(&ar1(20_000, 3e-4, 0.8, 5), 0.05);
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let x = model.synthesize(20_000, &mut rng);
+        let refit = NoiseModel::fit(&x, 0.05);
+        assert!((refit.variance / model.variance - 1.0).abs() < 0.1, "{} {}", refit.variance, model.variance);
+        assert!((refit.n_effective / model.n_effective - 1.0).abs() < 0.35, "{refit:?}\n{model:?}");
+    }
+
+    #[test]
+    fn the_quadratic_form_is_the_white_sum_of_squares() {
+        let r = white(4_096, 1.0, 6);
+        let m = NoiseModel::white(1.0, r.len(), 1.0);
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let ss: f64 = r.iter().map(|x| (x - mean).powi(2)).sum();
+        assert!((m.quadratic_form(&r) / ss - 1.0).abs() < 1e-9, "{} {ss}", m.quadratic_form(&r));
+    }
+}
