@@ -221,8 +221,8 @@ fn addressable<T>(call: &str, what: &str, null: bool, n: usize) -> Result<(), Rs
 /// slice lives (the header's contract: arrays do not overlap).
 unsafe fn input<'a, T>(call: &str, what: &str, p: *const T, n: usize) -> Result<&'a [T], RsfStatus> {
     addressable::<T>(call, what, p.is_null(), n)?;
-    // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n reads and not
-    // written meanwhile by the caller's contract
+    // (checked above: non-null, within isize::MAX bytes; valid for n reads, not written meanwhile)
+    // SAFETY: the caller's contract, stated in this function's doc, and the checks above
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
 
@@ -233,8 +233,8 @@ unsafe fn input<'a, T>(call: &str, what: &str, p: *const T, n: usize) -> Result<
 /// overlaps (the header's contract).
 unsafe fn output<'a, T>(call: &str, what: &str, p: *mut T, n: usize) -> Result<&'a mut [T], RsfStatus> {
     addressable::<T>(call, what, p.is_null(), n)?;
-    // SAFETY: non-null and within isize::MAX bytes (checked above); valid for n writes and
-    // not aliased by the caller's contract
+    // (checked above: non-null, within isize::MAX bytes; valid for n writes, not aliased)
+    // SAFETY: the caller's contract, stated in this function's doc, and the checks above
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
@@ -380,8 +380,8 @@ pub unsafe extern "C" fn rsf_batch_rates(
         if n == 0 {
             return Ok(());
         }
-        // SAFETY: each pointer is checked for null and n for size; n values each, not
-        // overlapping, by the contract above
+        // each pointer is checked for null and n for size by `input`/`output`
+        // SAFETY: n values each, not overlapping, by the contract in this function's doc
         let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_dpsi, rate) = unsafe {
             (
                 input(CALL, "fp", fp, n)?,
@@ -434,8 +434,8 @@ pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
         if n == 0 {
             return Ok(());
         }
-        // SAFETY: each pointer is checked for null and n for size; n values each, `ln_v` not
-        // overlapping the inputs, by the contract above
+        // each pointer is checked for null and n for size by `input`/`output`
+        // SAFETY: n values each, `ln_v` not overlapping the inputs, by the contract in this function's doc
         let (fp, sp, ln_theta, tau, sigma, eta, ln_v) = unsafe {
             (
                 input(CALL, "fp", fp, n)?,
