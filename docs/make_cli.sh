@@ -29,6 +29,7 @@ rsf simulate PROTOCOL.toml [-o OUT.csv] [--plot OUT.svg]   # run a protocol
 rsf segments RECORD [column options]                       # the loading protocol of a record
 rsf fit RECORD --stiffness K [options]                     # fit a model, with uncertainties
 rsf diagnose RECORD --stiffness K [options]                # what the fitted model gets wrong
+rsf batch MANIFEST.csv|FOLDER --out DIR --fit|--diagnose   # a whole archive, resumable
 ```
 
 Units everywhere: time s, displacement and Dc µm, velocities µm/s, stiffness k in 1/µm (machine
@@ -122,5 +123,18 @@ a held-out test, and names the cause (or `none`) with the gain. The record optio
 
 EOF
 help diagnose
+cat <<'EOF'
+
+## `rsf batch`
+
+A lab's archive in one command: every record of a manifest (a CSV naming each record and its
+options) or of a folder is fitted (`--fit`) and/or diagnosed (`--diagnose`), several at a time
+(`--jobs`); a failing record is reported and the rest go on; a re-run skips the records whose
+outputs are complete and whose bytes and options are unchanged. Output: `summary.csv` (one row
+per record), `summary.svg` (a, b, Dc across conditions) and `records/` (per-record JSON and
+HTML). The same table from Python and Dask: [scale.md](scale.md).
+
+EOF
+help batch
 } > "$out"
 echo "wrote $out"

@@ -4,6 +4,7 @@
 //! is an input refused before work starts); every record through the one reader
 //! (`rsf_record`, via `rsf_fit::data`).
 
+mod batch;
 mod fit;
 mod output;
 mod plot;
@@ -129,6 +130,9 @@ enum Command {
     /// Fit a rate-and-state model to a measured record (Levenberg-Marquardt with exact
     /// sensitivities; optional MCMC uncertainties).
     Fit(Box<FitArgs>),
+    /// Fit and/or diagnose every record of a manifest or a folder, in parallel.
+    #[command(long_about = BATCH_HELP)]
+    Batch(Box<BatchArgs>),
     /// Detect the loading protocol (segments of constant load-point velocity) of a record.
     Segments {
         /// The record (CSV or whitespace/tab-separated text with a header).
@@ -216,6 +220,77 @@ struct DiagnoseArgs {
 }
 
 #[derive(clap::Args, Debug)]
+struct BatchArgs {
+    /// The manifest (CSV) or a folder of records (.csv, .txt, .tsv, .dat; options from the
+    /// command line).
+    input: PathBuf,
+    /// Output folder: summary.csv, summary.svg and records/ (created when missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Fit each record (as `rsf fit`, law --law).
+    #[arg(long)]
+    fit: bool,
+    /// Diagnose each record (as `rsf diagnose`).
+    #[arg(long)]
+    diagnose: bool,
+    /// Nominal machine stiffness k, 1/µm, for records whose manifest row gives none.
+    #[arg(long)]
+    stiffness: Option<f64>,
+    /// Time column (default time_s).
+    #[arg(long)]
+    time_col: Option<String>,
+    /// Load-point displacement column (default load_point_um).
+    #[arg(long)]
+    lp_col: Option<String>,
+    /// Friction column (default mu).
+    #[arg(long)]
+    mu_col: Option<String>,
+    /// Shear-stress column (friction = shear / normal stress).
+    #[arg(long)]
+    shear_col: Option<String>,
+    /// Normal-stress column, MPa.
+    #[arg(long)]
+    normal_col: Option<String>,
+    /// Constant normal stress, MPa.
+    #[arg(long)]
+    normal_stress: Option<f64>,
+    /// Unit of the load-point column: um, mm or m.
+    #[arg(long)]
+    disp_unit: Option<String>,
+    /// Unit of the time column: s or ms.
+    #[arg(long)]
+    time_unit: Option<String>,
+    /// Evolution law of the fit: aging, slip, kato-tullis, prz, nagata (default slip).
+    #[arg(long)]
+    law: Option<String>,
+    /// Baseline law of the diagnosis: slip or aging (default slip).
+    #[arg(long)]
+    baseline: Option<String>,
+    /// Forward-model loading: record or protocol (default: record for --fit, protocol for
+    /// --diagnose).
+    #[arg(long)]
+    loading: Option<String>,
+    /// Fit the stiffness too.
+    #[arg(long)]
+    fit_stiffness: bool,
+    /// Fit a slip trend g too.
+    #[arg(long)]
+    fit_slip_trend: bool,
+    /// Drop over-range, sentinel and non-finite rows (reported) instead of refusing the record.
+    #[arg(long)]
+    drop_invalid: bool,
+    /// Seed of the diagnoses' null calibration (default 1).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Records run at a time (0: one per core). The results do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    jobs: usize,
+    /// Run every record again, even those whose outputs are complete and unchanged.
+    #[arg(long)]
+    force: bool,
+}
+
+#[derive(clap::Args, Debug)]
 struct FitArgs {
     /// The record (CSV or whitespace/tab-separated text with a header).
     data: PathBuf,
@@ -265,7 +340,7 @@ struct FitArgs {
     #[arg(long, default_value_t = 1e-7)]
     rtol: f64,
     /// Number of starting points for LM.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = rsf_fit::batch::FIT_STARTS)]
     starts: usize,
     /// Also refit each velocity step and each hold-and-reslide on its own (the consistency check across step sizes and hold times; the same refits as `rsf diagnose`)
     #[arg(long)]
@@ -293,6 +368,24 @@ struct FitArgs {
     #[arg(long)]
     plot: Option<PathBuf>,
 }
+
+const BATCH_HELP: &str = "Fit and/or diagnose every record of a manifest or a folder, in parallel.
+
+The manifest is a CSV file; its columns (any order; an empty cell takes the command line's value):
+  file            the record, relative to the manifest (required)
+  stiffness       nominal machine stiffness k, 1/µm
+  time_col, lp_col, mu_col, shear_col, normal_col, normal_stress, disp_unit, time_unit,
+  t_min, t_max, law, baseline, loading, fit_stiffness, fit_slip_trend, drop_invalid, seed
+                  as the options of `rsf fit` / `rsf diagnose`
+  meta_...        anything else the lab records (sample, humidity): carried into the summary
+Any other column is refused, so a misspelt option is never ignored.
+
+Output (--out DIR): DIR/summary.csv (one row per record: file, status, error, conditions,
+parameters with standard errors, cause, delta_bic, effect, ...), DIR/summary.svg (a, b, Dc
+against load-point velocity, normal stress and hold time), DIR/records/ (per-record JSON and
+HTML). A re-run skips records whose outputs are complete and whose record bytes, options and
+rsf version are unchanged (--force runs all). One failing record is reported and the rest go
+on; the exit status is 1 when any failed.";
 
 const SIMULATE_HELP: &str = "Simulate a spring-slider protocol described in a TOML file.
 
@@ -377,6 +470,7 @@ fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Fit(args) => fit::run(&args),
         Command::Diagnose(args) => fit::diagnose(&args),
+        Command::Batch(args) => batch::run(&args),
         Command::Segments { data, read, json, min_ratio, min_duration } => {
             output::Files::default().input("record", &data).check()?;
             let rec = read.read(&data)?;

@@ -30,3 +30,50 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
     let svg = rsf_fit::report::fit_svg(r, title).map_err(|e| anyhow!("{e}"))?;
     crate::output::write_bytes(path, svg)
 }
+
+/// `rsf batch`'s summary figure: a, b and Dc of every record fitted, with their standard
+/// errors, against the load-point velocity, the normal stress and the longest hold (the axes
+/// no record has are left out).
+pub fn batch(rows: &[rsf_fit::batch::Row]) -> Result<String> {
+    use rsf_fit::batch::{Row, Status};
+    type Axis = (&'static str, fn(&Row) -> Option<f64>, bool);
+    let axes: [Axis; 3] = [
+        (
+            "load-point velocity (µm/s), geometric mean of the slowest and fastest slide",
+            |r| r.v_lp_min_um_s.zip(r.v_lp_max_um_s).map(|(a, b)| (a * b).sqrt()),
+            true,
+        ),
+        ("normal stress (MPa)", |r| r.normal_stress_mpa, false),
+        ("longest hold (s)", |r| r.longest_hold_s, true),
+    ];
+    let params = [("a", "a", false), ("b1", "b (first state)", false), ("dc1", "Dc (µm, first state)", true)];
+    let ok: Vec<&Row> = rows.iter().filter(|r| r.status == Status::Ok).collect();
+    let mut panels = vec![];
+    for (x_label, x_of, log_x) in axes {
+        if !ok.iter().any(|r| x_of(r).is_some_and(|x| x.is_finite() && (!log_x || x > 0.0))) {
+            continue;
+        }
+        for (name, y_label, log_y) in params {
+            let (mut pts, mut err) = (vec![], vec![]);
+            for r in &ok {
+                if let (Some(x), Some(p)) = (x_of(r), r.params.iter().find(|p| p.name == name)) {
+                    pts.push((x, p.value));
+                    err.push(p.stderr.unwrap_or(0.0));
+                }
+            }
+            let mut panel = Panel::new("", x_label, y_label).with(Series::points(None, pts, PALETTE[0]).y_err(err));
+            if log_x {
+                panel = panel.log_x();
+            }
+            if log_y {
+                panel = panel.log_y();
+            }
+            panels.push(panel);
+        }
+    }
+    let title = format!("rsf batch: {} of {} records fitted (error bars: ±1 standard error)", ok.len(), rows.len());
+    if panels.is_empty() {
+        panels.push(Panel::new("no record was fitted", "", ""));
+    }
+    rsf_plot::render(&title, &panels, params.len(), (420, 320)).map_err(|e| anyhow!("{e}"))
+}

@@ -44,6 +44,7 @@
 //! assert!(ci[0] < 0.010 && 0.010 < ci[1]);
 //! ```
 
+pub mod batch;
 pub mod data;
 pub mod diagnose;
 pub mod fit;

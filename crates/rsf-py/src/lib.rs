@@ -4,6 +4,7 @@
 //! diagnoses run with the GIL released; every error becomes a `ValueError` with the Rust
 //! message.
 
+mod batch;
 mod fitting;
 mod pylaw;
 
@@ -195,6 +196,10 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(protocol_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::diagnose_json, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_entries, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_check_options, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_row, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_summary, m)?)?;
     m.add("SolveError", m.py().get_type::<SolveError>())?;
     Ok(())
 }

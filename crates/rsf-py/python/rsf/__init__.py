@@ -34,9 +34,12 @@ from . import _rsf
 
 SolveError = _rsf.SolveError
 
+from .batch import diagnose_many, fit_many  # noqa: E402  (many records; Dask)
+
 __all__ = [
     "State", "Model", "Protocol", "Setup", "load_protocol", "simulate", "read_record", "fit",
-    "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS",
+    "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS", "fit_many",
+    "diagnose_many",
 ]
 
 #: Built-in state laws by name.

@@ -149,3 +149,21 @@ def diagnose(
     mu: Optional[npt.ArrayLike] = ...,
     normal_stress: Optional[npt.ArrayLike] = ...,
 ) -> Diagnosis: ...
+def fit_many(
+    manifest_or_paths: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    stiffness: Optional[float] = ...,
+    client: Any = ...,
+    *,
+    diagnose: bool = ...,
+    progress: bool = ...,
+    **options: Any,
+) -> Any: ...  # pandas.DataFrame: the columns of `rsf batch`'s summary.csv
+def diagnose_many(
+    manifest_or_paths: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    stiffness: Optional[float] = ...,
+    client: Any = ...,
+    *,
+    fit: bool = ...,
+    progress: bool = ...,
+    **options: Any,
+) -> Any: ...  # pandas.DataFrame

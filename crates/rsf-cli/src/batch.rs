@@ -1,0 +1,220 @@
+//! `rsf batch`: a lab's archive, every record fitted and/or diagnosed in parallel, resumable,
+//! one summary table and figure. The per-record work and the table are `rsf_fit::batch`'s
+//! (shared with Python's `fit_many`/`diagnose_many`); this file owns the files.
+//!
+//! Layout of `--out DIR`:
+//! - `DIR/summary.csv`, `DIR/summary.svg`: one row per record; parameters across conditions.
+//! - `DIR/records/KEY.fit.json`, `KEY.diagnosis.json`, `KEY.html`: each record's results
+//!   (KEY: the manifest's name, `/` → `__`).
+//! - `DIR/records/KEY.row.json` and `KEY.stamp`: the record's summary row, and what it was
+//!   computed from (SHA-256 of the record's bytes, the options, the job, rsf's version). The
+//!   stamp is written last, after every output is complete: a record with a matching stamp is
+//!   skipped on a re-run; an interrupted or failed one is run again.
+
+use crate::BatchArgs;
+use anyhow::{Context, Result, bail};
+use rsf_fit::batch::{Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// The batch-wide options: the command line's, which a manifest's cells override.
+fn defaults(a: &BatchArgs) -> RecordOptions {
+    RecordOptions {
+        stiffness: a.stiffness,
+        time_col: a.time_col.clone(),
+        lp_col: a.lp_col.clone(),
+        mu_col: a.mu_col.clone(),
+        shear_col: a.shear_col.clone(),
+        normal_col: a.normal_col.clone(),
+        normal_stress: a.normal_stress,
+        disp_unit: a.disp_unit.clone(),
+        time_unit: a.time_unit.clone(),
+        t_min: None,
+        t_max: None,
+        law: a.law.clone(),
+        baseline: a.baseline.clone(),
+        loading: a.loading.clone(),
+        fit_stiffness: a.fit_stiffness.then_some(true),
+        fit_slip_trend: a.fit_slip_trend.then_some(true),
+        drop_invalid: a.drop_invalid.then_some(true),
+        seed: a.seed,
+    }
+}
+
+/// A record's output files.
+struct Paths {
+    fit: PathBuf,
+    diagnosis: PathBuf,
+    report: PathBuf,
+    row: PathBuf,
+    stamp: PathBuf,
+}
+
+impl Paths {
+    fn new(dir: &Path, name: &str) -> Paths {
+        let key: String = name.replace(['/', '\\'], "__");
+        let p = |ext: &str| dir.join(format!("{key}.{ext}"));
+        Paths {
+            fit: p("fit.json"),
+            diagnosis: p("diagnosis.json"),
+            report: p("html"),
+            row: p("row.json"),
+            stamp: p("stamp"),
+        }
+    }
+}
+
+/// What a record's results were computed from.
+fn stamp(e: &Entry, o: &RecordOptions, job: Job) -> Result<String> {
+    let mut h = Sha256::new();
+    let mut f = std::fs::File::open(&e.path).with_context(|| format!("{}", e.path.display()))?;
+    std::io::copy(&mut f, &mut h).with_context(|| format!("reading {}", e.path.display()))?;
+    let record: String = h.finalize().iter().map(|b| format!("{b:02x}")).collect();
+    let what = serde_json::json!({
+        "rsf": env!("CARGO_PKG_VERSION"),
+        "record_sha256": record,
+        "options": o,
+        "meta": e.meta,
+        "job": job,
+    });
+    Ok(serde_json::to_string_pretty(&what)? + "\n")
+}
+
+/// The row of a complete earlier run of this record with this stamp, if there is one.
+fn reuse(p: &Paths, stamp: &str, job: Job) -> Option<Row> {
+    if std::fs::read_to_string(&p.stamp).ok()? != stamp {
+        return None;
+    }
+    let row: Row = serde_json::from_str(&std::fs::read_to_string(&p.row).ok()?).ok()?;
+    let complete = (!job.fit || p.fit.is_file()) && (!job.diagnose || (p.diagnosis.is_file() && p.report.is_file()));
+    (row.status == Status::Ok && complete).then_some(row)
+}
+
+/// Runs one record (or reuses its earlier results); returns its row and whether it was reused.
+fn one(e: &Entry, d: &RecordOptions, job: Job, dir: &Path, threads: usize, force: bool) -> (Row, bool) {
+    let p = Paths::new(dir, &e.name);
+    let o = e.options.or(d);
+    let st = match stamp(e, &o, job) {
+        Ok(s) => s,
+        Err(err) => {
+            let mut row = Row::failed(&e.name, Status::ReadFailed, format!("{err:#}"));
+            row.meta = e.meta.clone();
+            return (row, false);
+        }
+    };
+    if !force {
+        if let Some(row) = reuse(&p, &st, job) {
+            return (row, true);
+        }
+    }
+    // an earlier run's stamp goes first: an interrupted run must not leave new outputs under
+    // an old stamp
+    let _ = std::fs::remove_file(&p.stamp);
+    let out = run_entry(e, d, job, threads);
+    let mut row = out.row;
+    let write = || -> Result<()> {
+        if let Some(f) = &out.fit {
+            let v = serde_json::json!({ "data": e.path.display().to_string(), "fit": f });
+            crate::output::write_bytes(&p.fit, serde_json::to_string_pretty(&v)? + "\n")?;
+        }
+        if let Some(dg) = &out.diagnosis {
+            let mut v = serde_json::to_value(dg)?;
+            v["data"] = serde_json::json!(e.path.display().to_string());
+            crate::output::write_bytes(&p.diagnosis, serde_json::to_string_pretty(&v)? + "\n")?;
+            crate::output::write_bytes(&p.report, rsf_fit::report::diagnosis_html(dg, &e.name))?;
+        }
+        Ok(())
+    };
+    if row.status == Status::Ok {
+        if let Err(err) = write() {
+            row.status = Status::WriteFailed;
+            row.error = format!("{err:#}");
+        }
+    }
+    let saved = crate::output::write_bytes(&p.row, serde_json::to_string_pretty(&row).unwrap_or_default() + "\n");
+    if row.status == Status::Ok && saved.is_ok() {
+        if let Err(err) = crate::output::write_bytes(&p.stamp, &st) {
+            eprintln!("rsf batch: {}: {err:#} (it will run again next time)", e.name);
+        }
+    }
+    (row, false)
+}
+
+/// `rsf batch`.
+pub fn run(a: &BatchArgs) -> Result<()> {
+    if !a.fit && !a.diagnose {
+        bail!("say what to do with each record: --fit, --diagnose or both");
+    }
+    let job = Job { fit: a.fit, diagnose: a.diagnose };
+    let entries = if a.input.is_dir() {
+        folder_entries(&a.input).map_err(anyhow::Error::msg)?
+    } else {
+        read_manifest(&a.input).map_err(anyhow::Error::msg)?
+    };
+    let d = defaults(a);
+    d.check().map_err(|(c, e)| anyhow::anyhow!("--{}: {e}", c.replace('_', "-")))?;
+    let dir = a.out.join("records");
+    let (summary, figure) = (a.out.join("summary.csv"), a.out.join("summary.svg"));
+    // no output may be an input: a record listed under the output folder's names is refused
+    let mut files = crate::output::Files::default();
+    if !a.input.is_dir() {
+        files = files.input("manifest", &a.input);
+    }
+    for e in &entries {
+        files = files.input("record", &e.path);
+    }
+    files.output("summary", Some(&summary)).output("figure", Some(&figure)).check()?;
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = if a.jobs == 0 { cores } else { a.jobs }.min(entries.len()).max(1);
+    // the cores left over go to each record's own fits (the result does not depend on it)
+    let inner = (cores / jobs).max(1);
+    eprintln!(
+        "rsf batch: {} records, {} at a time, {} to {}",
+        entries.len(),
+        jobs,
+        match job {
+            Job { fit: true, diagnose: true } => "fit and diagnose",
+            Job { fit: true, diagnose: false } => "fit",
+            Job { fit: false, .. } => "diagnose",
+        },
+        a.out.display()
+    );
+    let bar =
+        indicatif::ProgressBar::with_draw_target(Some(entries.len() as u64), indicatif::ProgressDrawTarget::stderr());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("batch {bar:30} {pos}/{len} records, {elapsed} (eta {eta}) {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let results = rsf_fit::diagnose::par_map(&entries, jobs, |e| {
+        let r = one(e, &d, job, &dir, inner, a.force);
+        bar.inc(1);
+        bar.set_message(format!("{}: {}", e.name, if r.1 { "reused" } else { r.0.status.text() }));
+        if r.0.status != Status::Ok {
+            bar.suspend(|| eprintln!("rsf batch: {}: {}: {}", e.name, r.0.status.text(), r.0.error));
+        }
+        r
+    });
+    bar.finish_and_clear();
+    let rows: Vec<Row> = results.iter().map(|r| r.0.clone()).collect();
+    crate::output::write_bytes(&summary, summary_csv(&rows))?;
+    crate::output::write_bytes(&figure, crate::plot::batch(&rows)?)?;
+    let reused = results.iter().filter(|r| r.1).count();
+    let failed: Vec<&Row> = rows.iter().filter(|r| r.status != Status::Ok).collect();
+    let mut text = format!(
+        "{} records: {} ok ({} reused from an earlier run), {} failed\n",
+        rows.len(),
+        rows.len() - failed.len(),
+        reused,
+        failed.len()
+    );
+    for r in &failed {
+        text += &format!("  {}: {}: {}\n", r.file, r.status.text(), r.error);
+    }
+    text += &format!("summary: {}\nfigure: {}\n", summary.display(), figure.display());
+    crate::write_stdout(&text)?;
+    if !failed.is_empty() {
+        bail!("{} of {} records failed (each named above and in {})", failed.len(), rows.len(), summary.display());
+    }
+    Ok(())
+}

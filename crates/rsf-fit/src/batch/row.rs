@@ -1,0 +1,250 @@
+//! One summary row per record, and the summary table of a batch.
+
+use serde::{Deserialize, Serialize};
+
+/// How a record's work ended. Serialised as the summary's `status` cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// Everything asked for was done.
+    Ok,
+    /// The record could not be read (the message names file, line and column).
+    ReadFailed,
+    /// The fit failed.
+    FitFailed,
+    /// The diagnosis failed.
+    DiagnoseFailed,
+    /// The options were incomplete or wrong for this record (e.g. no stiffness).
+    OptionsInvalid,
+    /// The work panicked: a defect of rsf, reported, and the other records go on.
+    Crashed,
+    /// The results could not be written (a full disk, a folder without permission).
+    WriteFailed,
+}
+
+impl Status {
+    /// The summary's word for it.
+    pub fn text(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::ReadFailed => "read_failed",
+            Status::FitFailed => "fit_failed",
+            Status::DiagnoseFailed => "diagnose_failed",
+            Status::OptionsInvalid => "options_invalid",
+            Status::Crashed => "crashed",
+            Status::WriteFailed => "write_failed",
+        }
+    }
+}
+
+/// A fitted parameter: name (`mu0`, `a`, `b1`, `dc1`, `vc1`, `k`, `g`, …), value, standard
+/// error (absent when fixed).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Param {
+    /// Its name, as in `rsf fit`'s output.
+    pub name: String,
+    /// Its value.
+    pub value: f64,
+    /// Its standard error (linearised), when it was free.
+    pub stderr: Option<f64>,
+}
+
+/// A record's line in the summary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// The record as the manifest names it.
+    pub file: String,
+    /// How its work ended.
+    pub status: Status,
+    /// What failed, when something did.
+    pub error: String,
+    /// Samples read.
+    pub samples: Option<usize>,
+    /// Record duration, s.
+    pub duration_s: Option<f64>,
+    /// Slowest and fastest load-point velocity of its slides, µm/s.
+    pub v_lp_min_um_s: Option<f64>,
+    /// Fastest load-point velocity, µm/s.
+    pub v_lp_max_um_s: Option<f64>,
+    /// Longest hold, s (absent without holds).
+    pub longest_hold_s: Option<f64>,
+    /// Median normal stress, MPa (from the record's column or the constant given).
+    pub normal_stress_mpa: Option<f64>,
+    /// Laws of the model whose parameters are given (the fit's; for a diagnosis alone, the
+    /// baseline's), `+`-joined.
+    pub laws: Option<String>,
+    /// Its rms misfit.
+    pub rms: Option<f64>,
+    /// Its parameters.
+    pub params: Vec<Param>,
+    /// The diagnosis's cause (`none` when the baseline suffices).
+    pub cause: Option<String>,
+    /// ΔBIC of the cause's extension (its gain; negative is better).
+    pub delta_bic: Option<f64>,
+    /// rms(extended)/rms(baseline).
+    pub rms_ratio: Option<f64>,
+    /// The effect's parameters, JSON.
+    pub effect: Option<String>,
+    /// The runner-up cause.
+    pub runner_up: Option<String>,
+    /// Drift rms left in the residuals of the model named, when reported.
+    pub drift_rms: Option<f64>,
+    /// The manifest's `meta_…` cells.
+    pub meta: Vec<(String, String)>,
+}
+
+impl Row {
+    /// A row for a record whose work failed.
+    pub fn failed(file: &str, status: Status, error: String) -> Row {
+        Row {
+            file: file.to_string(),
+            status,
+            error,
+            samples: None,
+            duration_s: None,
+            v_lp_min_um_s: None,
+            v_lp_max_um_s: None,
+            longest_hold_s: None,
+            normal_stress_mpa: None,
+            laws: None,
+            rms: None,
+            params: vec![],
+            cause: None,
+            delta_bic: None,
+            rms_ratio: None,
+            effect: None,
+            runner_up: None,
+            drift_rms: None,
+            meta: vec![],
+        }
+    }
+}
+
+/// The fixed columns before the parameters.
+const HEAD: [&str; 11] = [
+    "file",
+    "status",
+    "error",
+    "samples",
+    "duration_s",
+    "v_lp_min_um_s",
+    "v_lp_max_um_s",
+    "longest_hold_s",
+    "normal_stress_mpa",
+    "laws",
+    "rms",
+];
+/// The fixed columns after the parameters.
+const TAIL: [&str; 6] = ["cause", "delta_bic", "rms_ratio", "effect", "runner_up", "drift_rms"];
+
+/// The order of parameter columns: mu0, a, then b_i and Dc_i state by state, then the laws'
+/// own parameters and α by name, then k and g (the machine and the trend last).
+fn param_order(name: &str) -> (u32, String) {
+    let state = |p: &str| name.strip_prefix(p).and_then(|i| i.parse::<u32>().ok());
+    match name {
+        "mu0" => (0, String::new()),
+        "a" => (1, String::new()),
+        "k" => (1000, String::new()),
+        "g" => (1001, String::new()),
+        _ => match (state("b"), state("dc")) {
+            (Some(i), _) => (10 + 2 * i, String::new()),
+            (_, Some(i)) => (11 + 2 * i, String::new()),
+            _ => (500, name.to_string()),
+        },
+    }
+}
+
+fn num(x: Option<f64>) -> String {
+    x.map_or(String::new(), |v| format!("{v}"))
+}
+
+/// The summary table: one row per record, in the order given; the parameter columns are the
+/// union over the records (`NAME` and `NAME_se`), the `meta_…` columns in order of first
+/// appearance. Numbers are written in full (shortest round-trip form), so the table is the
+/// same wherever the rows were computed.
+pub fn summary_csv(rows: &[Row]) -> String {
+    let mut params: Vec<String> = vec![];
+    let mut metas: Vec<String> = vec![];
+    for r in rows {
+        for p in &r.params {
+            if !params.contains(&p.name) {
+                params.push(p.name.clone());
+            }
+        }
+        for (m, _) in &r.meta {
+            if !metas.contains(m) {
+                metas.push(m.clone());
+            }
+        }
+    }
+    params.sort_by_key(|p| param_order(p));
+    let mut w = csv::Writer::from_writer(vec![]);
+    let mut header: Vec<String> = HEAD.iter().map(|s| s.to_string()).collect();
+    for p in &params {
+        header.push(p.clone());
+        header.push(format!("{p}_se"));
+    }
+    header.extend(TAIL.iter().map(|s| s.to_string()));
+    header.extend(metas.iter().cloned());
+    // writing to a Vec cannot fail
+    let _ = w.write_record(&header);
+    for r in rows {
+        let mut cells = vec![
+            r.file.clone(),
+            r.status.text().to_string(),
+            r.error.clone(),
+            r.samples.map_or(String::new(), |n| n.to_string()),
+            num(r.duration_s),
+            num(r.v_lp_min_um_s),
+            num(r.v_lp_max_um_s),
+            num(r.longest_hold_s),
+            num(r.normal_stress_mpa),
+            r.laws.clone().unwrap_or_default(),
+            num(r.rms),
+        ];
+        for name in &params {
+            let p = r.params.iter().find(|p| &p.name == name);
+            cells.push(num(p.map(|p| p.value)));
+            cells.push(num(p.and_then(|p| p.stderr)));
+        }
+        cells.extend([
+            r.cause.clone().unwrap_or_default(),
+            num(r.delta_bic),
+            num(r.rms_ratio),
+            r.effect.clone().unwrap_or_default(),
+            r.runner_up.clone().unwrap_or_default(),
+            num(r.drift_rms),
+        ]);
+        for m in &metas {
+            cells.push(r.meta.iter().find(|(k, _)| k == m).map(|(_, v)| v.clone()).unwrap_or_default());
+        }
+        let _ = w.write_record(&cells);
+    }
+    String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_are_the_union_in_field_order() {
+        let mut a = Row::failed("a.csv", Status::Ok, String::new());
+        a.params = vec![
+            Param { name: "k".into(), value: 0.01, stderr: None },
+            Param { name: "dc1".into(), value: 10.0, stderr: Some(1.0) },
+            Param { name: "a".into(), value: 0.01, stderr: Some(1e-4) },
+        ];
+        a.meta = vec![("meta_sample".into(), "S1".into())];
+        let mut b = Row::failed("b.csv", Status::Ok, String::new());
+        b.params = vec![Param { name: "b2".into(), value: 0.002, stderr: Some(1e-4) }];
+        let c = Row::failed("c, d.csv", Status::ReadFailed, "c.csv: line 3, column `mu`: not a number".into());
+        let t = summary_csv(&[a, b, c]);
+        let lines: Vec<&str> = t.lines().collect();
+        assert!(lines[0].contains(",rms,a,a_se,dc1,dc1_se,b2,b2_se,k,k_se,cause,"), "{}", lines[0]);
+        assert!(lines[0].ends_with(",drift_rms,meta_sample"));
+        assert!(lines[1].contains(",0.01,0.0001,10,1,,,0.01,,"), "{}", lines[1]);
+        assert!(lines[3].starts_with("\"c, d.csv\",read_failed,"), "{}", lines[3]);
+        assert_eq!(lines.len(), 4);
+    }
+}

@@ -1,0 +1,84 @@
+"""Many records at once: ``rsf batch``'s per-record work from Python, on a Dask cluster when a
+``client`` is given (``dask.distributed``; dask-jobqueue for SLURM/PBS — see docs/scale.md).
+
+The work of each record and the summary table are the same Rust code as ``rsf batch``, so
+``diagnose_many(manifest, client=...)`` equals ``rsf batch manifest --diagnose``'s
+``summary.csv`` read with pandas, whatever the cluster. Rows travel as JSON text.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import sys
+from typing import Any, Optional, Sequence, Union
+
+from . import _rsf
+
+#: The per-record options: the manifest's option columns, also accepted as keyword arguments
+#: (the batch-wide defaults a manifest's cells override).
+OPTIONS = ("stiffness", "time_col", "lp_col", "mu_col", "shear_col", "normal_col", "normal_stress",
+           "disp_unit", "time_unit", "t_min", "t_max", "law", "baseline", "loading", "fit_stiffness",
+           "fit_slip_trend", "drop_invalid", "seed")
+
+PathLike = Union[str, os.PathLike]
+
+
+def _entries(manifest_or_paths: Union[PathLike, Sequence[PathLike]]) -> list:
+    if isinstance(manifest_or_paths, (str, os.PathLike)):
+        return json.loads(_rsf.batch_entries(os.fspath(manifest_or_paths)))
+    return [{"name": os.fspath(p), "path": os.path.abspath(os.fspath(p)), "line": 0, "options": {}, "meta": []}
+            for p in manifest_or_paths]
+
+
+def _row(entry_json: str, defaults_json: str, fit: bool, diagnose: bool, threads: int) -> str:
+    """One record's summary row (JSON); what a Dask task runs."""
+    return _rsf.batch_row(entry_json, defaults_json, fit, diagnose, threads)
+
+
+def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progress: bool, options: dict):
+    unknown = sorted(set(options) - set(OPTIONS))
+    if unknown:
+        raise TypeError(f"unknown option(s) {', '.join(unknown)}: use {', '.join(OPTIONS)}")
+    defaults = {k: v for k, v in options.items() if v is not None}
+    if stiffness is not None:
+        defaults["stiffness"] = float(stiffness)
+    dj = json.dumps(defaults)
+    _rsf.batch_check_options(dj)
+    entries = [json.dumps(e) for e in _entries(manifest_or_paths)]
+    if client is None:
+        rows = []
+        for k, e in enumerate(entries):
+            rows.append(_row(e, dj, fit, diagnose, 0))
+            if progress:
+                r = json.loads(rows[-1])
+                print(f"rsf: {k + 1}/{len(entries)} {r['file']}: {r['status']}", file=sys.stderr)
+    else:
+        # one task per record, one thread each: the workers are the parallelism
+        futures = client.map(_row, entries, defaults_json=dj, fit=fit, diagnose=diagnose, threads=1, pure=False)
+        if progress:
+            from distributed import progress as show
+            show(futures)
+        rows = client.gather(futures)
+    import pandas as pd
+    return pd.read_csv(io.StringIO(_rsf.batch_summary(rows)))
+
+
+def fit_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffness: Optional[float] = None,
+             client: Any = None, *, diagnose: bool = False, progress: bool = False, **options):
+    """Fits every record of a manifest (CSV), a folder, or a list of paths, as
+    ``rsf batch --fit`` does; a pandas DataFrame with its ``summary.csv`` columns (``file``,
+    ``status``, ``error``, conditions, parameters and ``*_se``, …). ``stiffness`` and
+    ``options`` (see :data:`OPTIONS`) are the defaults a manifest's cells override. With a
+    ``dask.distributed`` ``client`` each record is a task on the cluster. A failing record is a
+    row whose ``status`` says what failed; the others go on."""
+    return _many(manifest_or_paths, stiffness, client, True, diagnose, progress, options)
+
+
+def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffness: Optional[float] = None,
+                  client: Any = None, *, fit: bool = False, progress: bool = False, **options):
+    """Diagnoses every record, as ``rsf batch --diagnose`` does (``fit=True``: ``--fit
+    --diagnose``); see :func:`fit_many`. The table adds ``cause``, ``delta_bic``,
+    ``rms_ratio``, ``effect``, ``runner_up`` and ``drift_rms``."""
+    return _many(manifest_or_paths, stiffness, client, fit, True, progress, options)

@@ -1,0 +1,84 @@
+"""fit_many / diagnose_many: the same table as `rsf batch`, on a Dask LocalCluster of two
+worker processes and without a cluster; a failing record is a row, not an exception."""
+
+import os
+import shutil
+import subprocess
+
+import pandas as pd
+import pytest
+
+import rsf
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+CLI = os.path.join(ROOT, "target", "release", "rsf")
+BASALT = os.path.join(ROOT, "examples", "data", "giacomel-basalt", "velstep4_BRAVA_expb819_basalt.txt")
+NS = ["ns_small_a0_s+30.csv", "ns_small_a0.3_s-20.csv"]
+
+
+@pytest.fixture(scope="module")
+def lab(tmp_path_factory):
+    d = tmp_path_factory.mktemp("lab")
+    shutil.copy(BASALT, d / "basalt.txt")
+    (d / "ns").mkdir()
+    for f in NS:
+        shutil.copy(os.path.join(ROOT, "tests", "data", "normal_stress", f), d / "ns" / f)
+    (d / "bad.csv").write_text("time_s,load_point_um,mu\n0,0,0.6\n1,1,0.6\n2,2,0.6x\n")
+    (d / "manifest.csv").write_text(
+        "file,stiffness,time_col,lp_col,mu_col,normal_col,loading,meta_sample\n"
+        "basalt.txt,0.0151,Time(s),Displ(microns),Friction,,protocol,BRAVA b819\n"
+        f"ns/{NS[0]},0.01,,lp_um,,normal_stress_mpa,,S2\n"
+        f"ns/{NS[1]},0.01,,lp_um,,normal_stress_mpa,,S3\n"
+        "bad.csv,0.01,,,,,,S4\n")
+    return d
+
+
+def batch_summary(lab, *flags):
+    if not os.path.exists(CLI):
+        pytest.skip("target/release/rsf not built (cargo build --release -p rsf-cli)")
+    out = lab / ("out" + "".join(flags))
+    r = subprocess.run([CLI, "batch", str(lab / "manifest.csv"), "--out", str(out), *flags],
+                       capture_output=True, text=True)
+    assert r.returncode == 1, r.stderr          # one record fails: reported, exit status 1
+    assert "bad.csv: read_failed" in r.stdout
+    return pd.read_csv(out / "summary.csv")
+
+
+@pytest.fixture(scope="module")
+def client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def test_diagnose_many_on_dask_equals_rsf_batch(lab, client):
+    want = batch_summary(lab, "--diagnose")
+    got = rsf.diagnose_many(lab / "manifest.csv", client=client)
+    pd.testing.assert_frame_equal(got, want)
+    assert list(got["status"]) == ["ok", "ok", "ok", "read_failed"]
+    assert got.loc[3, "error"].endswith("column `mu`: `0.6x` is not a number")
+    assert got["cause"].iloc[:3].notna().all() and (got["a_se"].iloc[:3] > 0).all()
+    assert list(got["meta_sample"]) == ["BRAVA b819", "S2", "S3", "S4"]
+
+
+def test_fit_many_with_and_without_a_cluster_equals_rsf_batch(lab, client):
+    want = batch_summary(lab, "--fit")
+    pd.testing.assert_frame_equal(rsf.fit_many(lab / "manifest.csv", client=client), want)
+    pd.testing.assert_frame_equal(rsf.fit_many(str(lab / "manifest.csv")), want)
+
+
+def test_paths_with_options_given_once(lab):
+    paths = [lab / "ns" / f for f in NS]
+    df = rsf.fit_many(paths, stiffness=0.01, lp_col="lp_um", normal_col="normal_stress_mpa")
+    assert list(df["status"]) == ["ok", "ok"]
+    assert (df["normal_stress_mpa"] == 10).all()
+    with pytest.raises(TypeError, match="unknown option"):
+        rsf.fit_many(paths, stiffness=0.01, lp_column="lp_um")
+    with pytest.raises(ValueError, match="loading"):
+        rsf.fit_many(paths, stiffness=0.01, loading="recrd")
+    df = rsf.fit_many(paths, lp_col="lp_um")         # no stiffness anywhere: each record says so
+    assert list(df["status"]) == ["options_invalid"] * 2
