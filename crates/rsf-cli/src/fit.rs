@@ -64,6 +64,9 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     o.loading = loading(&a.loading)?;
     o.rtol = a.rtol;
     o.starts = a.starts;
+    if a.every_sample {
+        o.bin_above = None;
+    }
     for i in &a.initial {
         let (n, v) = i.split_once('=').with_context(|| format!("--initial `{i}`: expected NAME=VALUE"))?;
         o.initial.push((n.trim().into(), v.trim().parse().with_context(|| format!("--initial `{i}`"))?));
@@ -91,11 +94,14 @@ pub fn run(a: &FitArgs) -> Result<()> {
         None => detect(&rec.time, &rec.load_point, &SegmentOptions { min_ratio: a.min_ratio, ..Default::default() }),
     };
     let prep = prepare(&rec, &segs, &opts)?;
+    let used = match &prep.binning {
+        Some(b) => format!("{} used, as {} bin means (--every-sample: each)", b.samples, prep.used.len()),
+        None => format!("{} used", prep.used.len()),
+    };
     eprintln!(
-        "rsf fit: {} samples, {} segments, {} used; laws {:?}",
+        "rsf fit: {} samples, {} segments, {used}; laws {:?}",
         rec.len(),
         prep.segments.len(),
-        prep.used.len(),
         opts.laws.iter().map(|l| l.name()).collect::<Vec<_>>()
     );
     let res = fit(&prep, &opts)?;

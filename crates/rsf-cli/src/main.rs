@@ -339,6 +339,10 @@ struct FitArgs {
     /// Integrator relative tolerance.
     #[arg(long, default_value_t = 1e-7)]
     rtol: f64,
+    /// Fit every sample even of a large record (by default a record of more than 100,000 used
+    /// samples is fitted on bin means carrying the same information: docs/fit.md).
+    #[arg(long)]
+    every_sample: bool,
     /// Number of starting points for LM.
     #[arg(long, default_value_t = rsf_fit::batch::FIT_STARTS)]
     starts: usize,

@@ -303,7 +303,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // uniform weights: the likelihood of noise of one σ everywhere, as lab noise is, so that
     // ΔBIC has its nominal calibration (with segment weights a free parameter acting only in
     // sparsely sampled segments would gain about mean(w²) per parameter on pure noise)
-    let o = FitOptions { weighting: Weighting::Uniform, ..opts.fit.clone() };
+    // every sample: the noise model reads the residuals sample by sample
+    let o = FitOptions { weighting: Weighting::Uniform, bin_above: None, ..opts.fit.clone() };
     if o.laws.len() != 1 {
         return Err(FitError::Setup("the baseline has one state variable".into()));
     }

@@ -10,16 +10,18 @@ use std::collections::BTreeMap;
 /// `raw_j` (n × m, row-major), the sample weights and the noise variance `s2` (the usual
 /// (JᵀJ)⁻¹σ² for uniform weights). Inverted with column scaling (entries differ by many orders
 /// of magnitude) and an SVD pseudo-inverse, so an unidentified direction shows as a huge
-/// variance, not a tiny one.
-pub(super) fn covariance(raw_j: &[f64], weights: &[f64], m: usize, s2: f64) -> DMatrix<f64> {
+/// variance, not a tiny one. A point that is the mean of `counts[r]` samples (bins) has noise
+/// variance σ²/c: its term of the middle factor is divided by c.
+pub(super) fn covariance(raw_j: &[f64], weights: &[f64], counts: Option<&[u32]>, m: usize, s2: f64) -> DMatrix<f64> {
     let mut h = DMatrix::<f64>::zeros(m, m);
     let mut g = DMatrix::<f64>::zeros(m, m);
     for (r, w) in weights.iter().enumerate() {
         let row = &raw_j[r * m..(r + 1) * m];
+        let c = counts.map_or(1.0, |c| c[r] as f64);
         for a in 0..m {
             for b in 0..m {
                 h[(a, b)] += w * w * row[a] * row[b];
-                g[(a, b)] += w.powi(4) * row[a] * row[b];
+                g[(a, b)] += w.powi(4) / c * row[a] * row[b];
             }
         }
     }

@@ -151,12 +151,15 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     };
     let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
     used.set(used.get() + e.steps);
-    let n = data.len();
     let resid: Vec<f64> = e.model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
-    let ssr_raw: f64 = resid.iter().map(|x| x * x).sum();
+    // samples each point stands for (bin means: their count), and the scatter inside the bins
+    let count = |r: usize| p.binning.as_ref().map_or(1.0, |b| b.counts[r] as f64);
+    let within = |r: usize| p.binning.as_ref().map_or(0.0, |b| b.within[r]);
+    let n = p.binning.as_ref().map_or(data.len(), |b| b.samples);
+    let ssr_raw: f64 = resid.iter().enumerate().map(|(r, x)| count(r) * x * x + within(r)).sum();
     // σ² from the unweighted residuals
     let s2 = ssr_raw / (n as f64 - m as f64).max(1.0);
-    let cov = covariance(&e.raw_j, &p.weights, m, s2);
+    let cov = covariance(&e.raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
     let (ci95, stderr) = intervals(&map, &best.theta, &cov);
     let full = map.full(&best.theta);
     let at_bound: Vec<String> = map
@@ -174,8 +177,16 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     // the likelihood of what the fit minimises: noise σ/w_r at sample r (w normalised to mean
     // square 1; uniform weights give the usual Gaussian likelihood), so that models compared by
     // AIC/BIC are compared on the objective they were fitted to
-    let ssr_w: f64 = resid.iter().zip(&p.weights).map(|(x, w)| (w * x).powi(2)).sum();
-    let sum_ln_w: f64 = p.weights.iter().map(|w| w.ln()).sum();
+    let ssr_w: f64 = resid
+        .iter()
+        .zip(&p.weights)
+        .enumerate()
+        .map(|(r, (x, w))| (w * x).powi(2) + w * w / count(r) * within(r))
+        .sum();
+    let sum_ln_w: f64 = match &p.binning {
+        Some(b) => b.sum_ln_w,
+        None => p.weights.iter().map(|w| w.ln()).sum(),
+    };
     let ll = sum_ln_w - 0.5 * n as f64 * ((2.0 * std::f64::consts::PI * ssr_w / n as f64).ln() + 1.0);
     let kf = (m + 1) as f64;
     let np = n_params(map.n_states);
@@ -211,8 +222,8 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         .map(|(k, s)| SegmentRow { index: k + 1, kind: s.kind, t0: s.t0, t1: s.t1, v: s.v, n: 0, rms: 0.0 })
         .collect();
     for (r, &sg) in p.seg_of.iter().enumerate() {
-        rows[sg].n += 1;
-        rows[sg].rms += resid[r] * resid[r];
+        rows[sg].n += count(r) as usize;
+        rows[sg].rms += count(r) * resid[r] * resid[r] + within(r);
     }
     rows.iter_mut().for_each(|r| r.rms = if r.n > 0 { (r.rms / r.n as f64).sqrt() } else { 0.0 });
     let curve = Curve {
@@ -244,6 +255,7 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         loading: opts.loading,
         weighting: opts.weighting,
         curve,
+        bins: p.binning.as_ref().map(|_| p.used.len()),
         theta: best.theta.clone(),
         cov_theta: cov.as_slice().to_vec(),
     })

@@ -10,6 +10,7 @@
 //! | file | what |
 //! |---|---|
 //! | `options.rs` | [`FitOptions`], loading and weighting modes, the work budget, errors |
+//! | `bins.rs` | large records fitted on bin means with the same information |
 //! | `prepare.rs` | samples and weights of a record ([`prepare`]), data-derived starting values |
 //! | `params.rs` | the parameter map: names, layout, log transforms, constraints, physical bounds |
 //! | `forward.rs` | the forward model and its sensitivities at the used samples |
@@ -17,6 +18,7 @@
 //! | `covariance.rs` | covariance, standard errors and 95% intervals at the optimum |
 //! | `result.rs` | [`FitResult`], [`Params`], the segment table and the fitted curve |
 
+mod bins;
 mod covariance;
 mod forward;
 mod lsq;
@@ -25,6 +27,7 @@ mod params;
 mod prepare;
 mod result;
 
+pub use bins::{BIN_ABOVE, BIN_FRACTION, Binning};
 pub use forward::model_curve;
 pub use lsq::fit;
 pub use options::{

@@ -102,6 +102,9 @@ pub struct FitOptions {
     /// evaluation: every evaluation then fails, so the work winds down within one solve. The
     /// Python package sets it on KeyboardInterrupt.
     pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
+    /// Fit a record with more used samples than this on bin means carrying the same
+    /// information ([`super::bins`]; default [`super::BIN_ABOVE`]); `None`: every sample.
+    pub bin_above: Option<usize>,
 }
 
 impl FitOptions {
@@ -191,6 +194,7 @@ impl FitOptions {
             normal_stress: NormalStressMode::Auto,
             alpha: AlphaFit::Fixed,
             cancel: None,
+            bin_above: Some(super::BIN_ABOVE),
         }
     }
 }

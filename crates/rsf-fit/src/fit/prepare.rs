@@ -25,6 +25,9 @@ pub struct Prepared {
     pub normal_stress: Option<NormalStressRecord>,
     /// σ_ref, MPa: the normal stress at the first used sample (k = K/σ_ref); 1 without one.
     pub sigma_ref: f64,
+    /// When the used points are bin means of a large record ([`super::bins`]): what they
+    /// summarise.
+    pub binning: Option<super::Binning>,
 }
 
 /// Vertices of a measured σ(t) are kept to within this fraction of its median, or twice the
@@ -112,7 +115,23 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
     let v_init = segs[0].v;
     let normal_stress = driving_normal_stress(&rec, opts.normal_stress);
     let sigma_ref = normal_stress.as_ref().map(|h| h.sigma[0]).unwrap_or(1.0);
-    Ok(Prepared { record: rec, segments: segs, used, weights, seg_of, v_init, normal_stress, sigma_ref })
+    let p = Prepared {
+        record: rec,
+        segments: segs,
+        used,
+        weights,
+        seg_of,
+        v_init,
+        normal_stress,
+        sigma_ref,
+        binning: None,
+    };
+    // a large record is fitted on bin means (a varying normal stress keeps every sample: its
+    // steps fall inside segments)
+    Ok(match opts.bin_above {
+        Some(m) if p.used.len() > m && p.normal_stress.is_none() => super::bins::bin(p),
+        _ => p,
+    })
 }
 
 /// Data-derived starting values: `(mu0, a, b_total, dc)` from the velocity steps (a from the

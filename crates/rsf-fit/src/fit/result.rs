@@ -129,9 +129,14 @@ pub struct FitResult {
     pub loading: LoadingMode,
     /// Weighting.
     pub weighting: Weighting,
-    /// Times, data, model and residual of the used samples (for plots and diagnosis).
+    /// Times, data, model and residual of the used samples (for plots and diagnosis); of the
+    /// bin means when the record was binned.
     #[serde(skip)]
     pub curve: Curve,
+    /// The bin means the fit was made on, when the record was large enough to be binned
+    /// ([`super::bins`]); `n`, `rms`, the likelihood and the segment table are the samples'.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bins: Option<usize>,
     /// Free-parameter names in fit order, transformed scale (`ln` for log-fitted).
     #[serde(skip)]
     pub theta: Vec<f64>,

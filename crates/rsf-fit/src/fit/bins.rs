@@ -1,0 +1,138 @@
+//! Large records fitted on bin means that carry the same information.
+//!
+//! A 1 kHz record of 10⁶ samples holds far fewer independent features than samples: away from
+//! the first instants after a velocity change the model friction changes slowly, and a bin of
+//! c consecutive samples can be replaced by its mean with weight √c. For noise of one σ the
+//! weighted least-squares objective on the means differs from the one on the samples by a
+//! constant (the within-bin scatter) plus the model's curvature inside a bin, so the optimum,
+//! the Jacobian's normal matrix Σ c j jᵀ and hence the standard errors are the full
+//! computation's. The within-bin sums of squares are kept, so that the rms, the likelihood,
+//! AIC and BIC are those of the samples.
+//!
+//! **Bins.** Within each segment, a bin starting at time t after the segment's start spans at
+//! most `BIN_FRACTION` × (t − t₀) — one sample right after a change, growing with the time since
+//! it: a transient that decays over a time τ is sampled by ≳ 1/`BIN_FRACTION` bins per τ, and
+//! the model's curvature inside a bin shifts a bin mean by ≲ (`BIN_FRACTION`)²/24 of the
+//! transient's size (4e-7 of it: 1e-8 in friction for a 0.03 transient, against lab noise of
+//! 1e-4). Bins never cross a segment break or a gap in the used samples (an excluded window).
+//! The load point of the bins (their means) drives a record-loading model; their times are the
+//! mean times; the last sample before each break or gap is a bin of its own, so the load point's
+//! corner at a break stays where it is.
+
+use super::Prepared;
+use crate::data::Record;
+
+/// Records with more used samples than this are fitted on bin means: below it, the fit on the
+/// samples takes a few seconds; above it, the time grows with the samples (10⁶ samples:
+/// 81 s in record loading before bins).
+pub const BIN_ABOVE: usize = 100_000;
+
+/// A bin spans at most this fraction of the time since its segment's start (see the module
+/// text for the error it allows). Measured on a 10⁶-sample record (docs/BENCHMARKS.md): at 0.01
+/// the parameters moved by up to 0.2 standard errors from the fit on every sample, at 0.003 by
+/// at most 0.02, with 11,540 bins and the fit under a second.
+pub const BIN_FRACTION: f64 = 0.003;
+
+/// What the bins of a binned [`Prepared`] summarise.
+#[derive(Clone, Debug)]
+pub struct Binning {
+    /// Samples per used point (bin).
+    pub counts: Vec<u32>,
+    /// Each bin's friction scatter that is noise ([`scatter`]: about a line, ≈ (c − 1) σ²).
+    pub within: Vec<f64>,
+    /// Samples in all.
+    pub samples: usize,
+    /// Σ ln w over the samples (the likelihood's normalisation).
+    pub sum_ln_w: f64,
+}
+
+/// The friction samples' scatter inside a bin that the noise makes: about a straight line in
+/// time (the model's own slope inside a bin is not noise: about the mean, it added 0.7 % to the
+/// sum of squares of a 10⁶-sample record), scaled by (c − 1)/(c − 2) for the line's extra degree
+/// of freedom, so that it estimates (c − 1) σ² as the scatter about the mean does for noise
+/// alone. Two samples: about their mean.
+fn scatter(idx: &[usize], t: &[f64], y: &[f64], ym: f64) -> f64 {
+    let c = idx.len();
+    if c < 3 {
+        return idx.iter().map(|&i| (y[i] - ym).powi(2)).sum();
+    }
+    let tm = idx.iter().map(|&i| t[i]).sum::<f64>() / c as f64;
+    let (mut stt, mut sty) = (0.0, 0.0);
+    for &i in idx {
+        stt += (t[i] - tm).powi(2);
+        sty += (t[i] - tm) * (y[i] - ym);
+    }
+    let slope = if stt > 0.0 { sty / stt } else { 0.0 };
+    let ss: f64 = idx.iter().map(|&i| (y[i] - ym - slope * (t[i] - tm)).powi(2)).sum();
+    ss * (c - 1) as f64 / (c - 2) as f64
+}
+
+/// `p` with its used samples replaced by bin means (weights × √count).
+pub(super) fn bin(p: Prepared) -> Prepared {
+    let r = &p.record;
+    let (mut time, mut lp, mut mu) = (vec![], vec![], vec![]);
+    let (mut counts, mut within, mut weights, mut seg_of) = (vec![], vec![], vec![], vec![]);
+    let mut sum_ln_w = 0.0;
+    let mut k = 0;
+    while k < p.used.len() {
+        let (i0, sg, w) = (p.used[k], p.seg_of[k], p.weights[k]);
+        let t_seg = p.segments[sg].t0;
+        let span = BIN_FRACTION * (r.time[i0] - t_seg).max(0.0);
+        // the sample after `e` continues `e`'s run: same segment, no gap
+        let continues =
+            |e: usize| e + 1 < p.used.len() && p.seg_of[e + 1] == p.seg_of[e] && p.used[e + 1] == p.used[e] + 1;
+        let mut e = k + 1;
+        // consecutive samples of one segment, no gap, within the span; the last sample of a run
+        // is a bin of its own, so that a record-loading model's load point keeps its corner at
+        // each break (a bin's mean time lies up to half its span before the break)
+        while e < p.used.len() && continues(e - 1) && continues(e) && r.time[p.used[e]] - r.time[i0] <= span {
+            e += 1;
+        }
+        let c = (e - k) as f64;
+        let idx = &p.used[k..e];
+        let mean = |v: &[f64]| idx.iter().map(|&i| v[i]).sum::<f64>() / c;
+        let m = mean(&r.mu);
+        time.push(mean(&r.time));
+        lp.push(mean(&r.load_point));
+        mu.push(m);
+        within.push(scatter(idx, &r.time, &r.mu, m));
+        counts.push((e - k) as u32);
+        weights.push(w * c.sqrt());
+        seg_of.push(sg);
+        sum_ln_w += c * w.ln();
+        k = e;
+    }
+    let n = time.len();
+    // segment ranges in the bins; a segment with no used sample keeps an empty range at its place
+    let mut segments = p.segments.clone();
+    for (j, s) in segments.iter_mut().enumerate() {
+        let first = seg_of.iter().position(|&g| g == j);
+        let last = seg_of.iter().rposition(|&g| g == j);
+        (s.i0, s.i1) = match (first, last) {
+            (Some(a), Some(b)) => (a, b),
+            _ => {
+                let at = seg_of.partition_point(|&g| g < j).min(n.saturating_sub(1));
+                (at, at)
+            }
+        };
+    }
+    let record = Record {
+        time,
+        load_point: lp,
+        mu,
+        normal_stress: vec![],
+        source: p.record.source.clone(),
+        dropped_duplicate_times: p.record.dropped_duplicate_times,
+        dropped_invalid: p.record.dropped_invalid,
+        warnings: p.record.warnings.clone(),
+    };
+    Prepared {
+        record,
+        segments,
+        used: (0..n).collect(),
+        weights,
+        seg_of,
+        binning: Some(Binning { samples: p.used.len(), counts, within, sum_ln_w }),
+        ..p
+    }
+}
