@@ -11,7 +11,7 @@
 //!   stamp is written last, after every output is complete: a record with a matching stamp is
 //!   skipped on a re-run; an interrupted or failed one is run again.
 
-use crate::BatchArgs;
+use crate::args::BatchArgs;
 use anyhow::{Context, Result, bail};
 use rsf_fit::batch::{Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv};
 use sha2::{Digest, Sha256};

@@ -1,6 +1,6 @@
 //! `rsf fit`.
 
-use crate::{DiagnoseArgs, FitArgs};
+use crate::args::{DiagnoseArgs, FitArgs};
 use anyhow::{Context, Result, bail};
 use rsf_fit::diagnose::{EventFit, event_windows, per_event_fits};
 use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, Weighting, fit, prepare};
