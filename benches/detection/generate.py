@@ -26,6 +26,9 @@ from scipy.special import lambertw
 
 RTOL, ATOL_LOG, ATOL_SLIP = 1e-10, 1e-12, 1e-10
 VMAX_FACTOR = 10.0   # slip rate above 10x the fastest load point = stick-slip: redraw the record
+#: Row counts are scaled by this (--rows-scale): 1 for the detection sets.
+ROWS_SCALE = 1.0
+
 FEATURES = ["variable_sampling", "time_jitter", "nonzero_t0", "encoder_noise", "ar1_noise", "spikes"]
 # effect-size ladders, subtle -> obvious
 LADDERS = {
@@ -168,7 +171,7 @@ NICE_DT = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0]
 
 def uniform_grid(rng, segs):
     """One fixed interval; segment ends are snapped onto the grid so breaks are samples."""
-    raw = sum(s[0] for s in segs) / rng.uniform(13000, 23000)
+    raw = sum(s[0] for s in segs) / (ROWS_SCALE * rng.uniform(13000, 23000))
     dt = next((d for d in NICE_DT if d >= raw), NICE_DT[-1])
     ends = np.cumsum([max(1, round(s[0] / dt)) for s in segs])
     return np.r_[0, ends] * dt, np.arange(ends[-1] + 1) * dt
@@ -187,7 +190,7 @@ def variable_grid(rng, segs, seg_t):
             dtb = 1.0 / base[j]                               # no sample within half a step of a break
             pieces += [np.arange(t0, tb - 0.005, 0.01), np.arange(tb, t1 - 0.5 * dtb, dtb)]
         ts = np.unique(np.concatenate(pieces))
-        if len(ts) <= 24000:
+        if len(ts) <= ROWS_SCALE * 24000:
             return ts
         base, burst = [r * 0.85 for r in base], max(3.0, burst * 0.9)
     return ts
@@ -371,9 +374,10 @@ def make_record(spec, rng):
     raise RuntimeError(f"no stable record for {spec}")
 
 
-def generate(out, seed, quick, drift=False):
+def generate(out, seed, quick, drift=False, limit=None):
     out.mkdir(parents=True, exist_ok=True)
     specs = plan_drift(np.random.default_rng(seed)) if drift else plan(np.random.default_rng(seed), quick)
+    specs = specs[:limit]
     manifest, t_start = [], time.time()
     for i, spec in enumerate(specs):
         t1 = time.time()
@@ -450,13 +454,17 @@ if __name__ == "__main__":
     ap.add_argument("--check", type=Path, metavar="REFDIR", help="compare with shared/reference")
     ap.add_argument("--drift", action="store_true", help="the 1/f-noise set (32 none, 16 mixture, 16 cut-off)")
     ap.add_argument("--issue21", type=Path, metavar="CSV", help="write issue 21's false-alarm record")
+    ap.add_argument("--rows-scale", type=float, default=1.0,
+                    help="records this many times longer in rows (the speed set of issue 22: 3.5)")
+    ap.add_argument("--limit", type=int, help="only the first N records of the (shuffled) set")
     args = ap.parse_args()
+    ROWS_SCALE = args.rows_scale
     if args.issue21:
         issue21_case(args.issue21)
         sys.exit(0)
     if args.check:
         check(args.check)
     if args.out:
-        generate(args.out, args.seed, args.quick, args.drift)
+        generate(args.out, args.seed, args.quick, args.drift, args.limit)
     elif not args.check:
         ap.error("give --out DIR (and/or --check REFDIR)")
