@@ -29,6 +29,10 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 /// would arise by chance under the baseline less often than this.
 pub const FALSE_ALARM_LEVEL: f64 = 0.01;
 
+/// A replicate gain below −this (2 Δln L) is a loss, not a collapse onto the baseline (which
+/// gives 0 to rounding, ~1e-7): half a unit of ln L, far above rounding, far below a real gain.
+const NEGATIVE_NULL_GAIN: f64 = 0.5;
+
 /// Default number of bootstrap replicates: enough for the first two moments of the null gain
 /// to within about ±30%, which moves the tail probability at the 1% level by less than a
 /// factor 2; each costs a baseline and a candidate refit.
@@ -49,6 +53,12 @@ pub struct NullCalibration {
     pub exceeded: usize,
     /// P(G ≥ observed) under the fitted scaled chi-square c·χ²_d.
     pub false_alarm_probability: f64,
+    /// No replicate gained and some lost (2Δln L below −`NEGATIVE_NULL_GAIN`): the extension's
+    /// least-squares fit lowers the likelihood on noise alone, so the replicates do not describe
+    /// its null, and the probability above is the textbook χ²'s. Such a candidate is named only
+    /// beyond ten times the decisive ΔBIC.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub uninformative: bool,
 }
 
 /// A replicate record: the baseline's model curve at the used samples plus noise drawn from a
@@ -87,13 +97,20 @@ pub(super) fn gain(base: &FitResult, bn: &Noisy, ext: &FitResult) -> f64 {
 /// Calibrates the observed gain against the replicates' gains (`None` entries failed); `dk` is
 /// the number of parameters the extension adds.
 pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Option<NullCalibration> {
-    let g: Vec<f64> = null.iter().flatten().map(|g| g.max(0.0)).collect();
+    let raw: Vec<f64> = null.iter().flatten().copied().collect();
+    let g: Vec<f64> = raw.iter().map(|g| g.max(0.0)).collect();
     if g.len() < 4 {
         return None;
     }
     let n = g.len() as f64;
     let mean = g.iter().sum::<f64>() / n;
     let var = g.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    // no replicate gained, and some lost: on noise alone the extension's least-squares fit
+    // lowers the likelihood of its residuals under their own noise, so its gain is no likelihood
+    // ratio and the replicates do not describe its null; the calibration is marked uninformative
+    // and the candidate must show more evidence (`decide::ineligible`)
+    let uninformative = raw.iter().all(|&x| x <= 0.0) && raw.iter().any(|&x| x < -NEGATIVE_NULL_GAIN);
+    let exceeded = g.iter().filter(|&&x| x >= observed).count();
     // c·χ²_d with mean c d and variance 2 c² d; a degenerate null (every replicate's gain 0:
     // its moments say nothing) falls back to the textbook χ²_dk
     let p = if mean > 0.0 && var > 0.0 {
@@ -108,7 +125,31 @@ pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Optio
         gain_mean: mean,
         gain_sd: var.sqrt(),
         gain_observed: observed,
-        exceeded: g.iter().filter(|&&x| x >= observed).count(),
+        exceeded,
         false_alarm_probability: p,
+        uninformative,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 1/f set's record 59 (issue 21): a slip trend gained 2Δln L = 41 on the record while
+    /// every replicate's least-squares trend lowered its Whittle likelihood (−15.7, −8.6, 0,
+    /// −8.5). That all-zero (clamped) null falls back to χ²₁ (1.4e-10) and was taken at its
+    /// word; now it is marked uninformative, so the candidate needs ten times the decisive ΔBIC.
+    #[test]
+    fn a_null_whose_replicates_lose_is_marked_uninformative() {
+        let c = calibrate(41.1, &[Some(-15.7), Some(-8.6), Some(-6.9e-8), Some(-8.5)], 1).unwrap();
+        assert_eq!(c.exceeded, 0);
+        assert!(c.uninformative);
+        // a collapse onto the baseline (gains 0 to rounding: a parameter at its boundary) keeps
+        // the textbook χ² of one parameter
+        let z = calibrate(41.1, &[Some(0.0), Some(-1e-7), Some(0.0), Some(1e-9)], 1).unwrap();
+        assert!(z.false_alarm_probability < 1e-9 && !z.uninformative, "{}", z.false_alarm_probability);
+        // replicates that gain: the scaled χ² of their moments
+        let g = calibrate(41.1, &[Some(1.0), Some(2.5), Some(0.3), Some(1.7), Some(-3.0)], 1).unwrap();
+        assert!(g.false_alarm_probability < 1e-3 && g.gain_mean > 0.0 && !g.uninformative);
+    }
 }

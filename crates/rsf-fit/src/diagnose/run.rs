@@ -20,11 +20,12 @@ use crate::segment::{Segment, SegmentOptions, detect};
 /// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
 const TRAINING_BLIND_FACTOR: f64 = 10.0;
 
-/// A candidate the held-out test cannot judge must earn ten times the decisive ΔBIC instead:
-/// one check fewer, more evidence. (The detection study's record 55, plain friction with AR(1)
+/// A candidate the held-out test cannot judge, or whose null replicates cannot calibrate it
+/// (`NullCalibration::uninformative`), must earn ten times the decisive ΔBIC instead: one check
+/// fewer, more evidence. (The detection study's record 55, plain friction with AR(1)
 /// noise, spikes and encoder noise, scores a spurious cut-off of ΔBIC −34 that only the
 /// held-out test caught; record 82's real cut-off scores −4006.)
-const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
+pub(super) const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
 
 /// A candidate's held-out training fit may do this many times the work of its fit on the whole
 /// record, and at least `HELDOUT_MIN_STEPS` integrator steps.
