@@ -33,13 +33,14 @@ pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> 
 
 /// `rsf batch`'s summary figure: a, b and Dc of every record fitted, with their standard
 /// errors, against the load-point velocity, the normal stress and the longest hold (the axes
-/// no record has are left out).
+/// no record has are left out); one colour per diagnosed cause.
 pub fn batch(rows: &[rsf_fit::batch::Row]) -> Result<String> {
     use rsf_fit::batch::{Row, Status};
     type Axis = (&'static str, fn(&Row) -> Option<f64>, bool);
     let axes: [Axis; 3] = [
+        // the geometric mean of the slowest and fastest slide
         (
-            "load-point velocity (µm/s), geometric mean of the slowest and fastest slide",
+            "slide velocity (µm/s, geometric mean)",
             |r| r.v_lp_min_um_s.zip(r.v_lp_max_um_s).map(|(a, b)| (a * b).sqrt()),
             true,
         ),
@@ -48,20 +49,32 @@ pub fn batch(rows: &[rsf_fit::batch::Row]) -> Result<String> {
     ];
     let params = [("a", "a", false), ("b1", "b (first state)", false), ("dc1", "Dc (µm, first state)", true)];
     let ok: Vec<&Row> = rows.iter().filter(|r| r.status == Status::Ok).collect();
+    // the groups: each cause the diagnoses named (in order of first appearance), or one group
+    let mut groups: Vec<String> = vec![];
+    for r in &ok {
+        let g = r.cause.clone().unwrap_or_else(|| "fitted".into());
+        if !groups.contains(&g) {
+            groups.push(g);
+        }
+    }
     let mut panels = vec![];
     for (x_label, x_of, log_x) in axes {
         if !ok.iter().any(|r| x_of(r).is_some_and(|x| x.is_finite() && (!log_x || x > 0.0))) {
             continue;
         }
         for (name, y_label, log_y) in params {
-            let (mut pts, mut err) = (vec![], vec![]);
-            for r in &ok {
-                if let (Some(x), Some(p)) = (x_of(r), r.params.iter().find(|p| p.name == name)) {
-                    pts.push((x, p.value));
-                    err.push(p.stderr.unwrap_or(0.0));
+            let mut panel = Panel::new("", x_label, y_label);
+            for (k, g) in groups.iter().enumerate() {
+                let (mut pts, mut err) = (vec![], vec![]);
+                for r in ok.iter().filter(|r| r.cause.as_deref().unwrap_or("fitted") == g) {
+                    if let (Some(x), Some(p)) = (x_of(r), r.params.iter().find(|p| p.name == name)) {
+                        pts.push((x, p.value));
+                        err.push(p.stderr.unwrap_or(0.0));
+                    }
                 }
+                let label = (groups.len() > 1).then(|| g.clone());
+                panel = panel.with(Series::points(label, pts, PALETTE[k % PALETTE.len()]).y_err(err));
             }
-            let mut panel = Panel::new("", x_label, y_label).with(Series::points(None, pts, PALETTE[0]).y_err(err));
             if log_x {
                 panel = panel.log_x();
             }
@@ -75,5 +88,5 @@ pub fn batch(rows: &[rsf_fit::batch::Row]) -> Result<String> {
     if panels.is_empty() {
         panels.push(Panel::new("no record was fitted", "", ""));
     }
-    rsf_plot::render(&title, &panels, params.len(), (420, 320)).map_err(|e| anyhow!("{e}"))
+    rsf_plot::render(&title, &panels, params.len(), (440, 320)).map_err(|e| anyhow!("{e}"))
 }
