@@ -151,6 +151,13 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     } else {
         read_manifest(&a.input).map_err(anyhow::Error::msg)?
     };
+    // two records must not share their output files (`a/b.csv` and `a__b.csv`)
+    let mut keys = std::collections::BTreeMap::new();
+    for e in &entries {
+        if let Some(other) = keys.insert(Paths::new(&a.out, &e.name).row, &e.name) {
+            bail!("`{other}` and `{}` would share their output files in {}: rename one", e.name, a.out.display());
+        }
+    }
     let d = defaults(a);
     d.check().map_err(|(c, e)| anyhow::anyhow!("--{}: {e}", c.replace('_', "-")))?;
     let dir = a.out.join("records");

@@ -192,6 +192,13 @@ fn a_bad_manifest_is_refused_before_any_work() {
     assert!(!out.status.success());
     assert!(text(&out).contains("is the record") && text(&out).contains("would be destroyed"), "{}", text(&out));
     assert_eq!(std::fs::read_to_string(p.join("out/summary.csv")).unwrap(), "time_s,load_point_um,mu\n");
+    // two records whose output files would be one
+    std::fs::create_dir_all(p.join("a")).unwrap();
+    std::fs::copy(p.join("bad.csv"), p.join("a/b.csv")).unwrap();
+    std::fs::copy(p.join("bad.csv"), p.join("a__b.csv")).unwrap();
+    std::fs::write(p.join("manifest.csv"), "file,stiffness\na/b.csv,0.01\na__b.csv,0.01\n").unwrap();
+    let out = batch(p, &["--fit"]);
+    assert!(text(&out).contains("would share their output files"), "{}", text(&out));
     // neither --fit nor --diagnose
     let out = batch(p, &[]);
     assert!(text(&out).contains("--fit, --diagnose or both"));
