@@ -93,11 +93,8 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
     let d = names.len() + 1;
     // bin means of a large record (`fit::bins`): each stands for its count of samples, and the
     // scatter inside the bins is part of every sum of squares
-    let (n, within) = match &p.binning {
-        Some(b) => (b.samples as f64, b.within.iter().sum::<f64>()),
-        None => (p.used.len() as f64, 0.0),
-    };
-    let count = |r: usize| p.binning.as_ref().map_or(1.0, |b| b.counts[r] as f64);
+    let n = p.samples() as f64;
+    let within: f64 = (0..p.used.len()).map(|r| p.within(r)).sum();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     let log_post = |x: &[f64]| -> f64 {
         if opts.cancelled() {
@@ -108,7 +105,7 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
         };
         let ls = x[d - 1];
         let ssr: f64 =
-            mu.iter().zip(&data).enumerate().map(|(r, (a, b))| count(r) * (a - b).powi(2)).sum::<f64>() + within;
+            mu.iter().zip(&data).enumerate().map(|(r, (a, b))| p.count(r) * (a - b).powi(2)).sum::<f64>() + within;
         if !ssr.is_finite() {
             return f64::NEG_INFINITY;
         }

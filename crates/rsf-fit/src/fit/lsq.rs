@@ -152,11 +152,9 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
     let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
     used.set(used.get() + e.steps);
     let resid: Vec<f64> = e.model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
-    // samples each point stands for (bin means: their count), and the scatter inside the bins
-    let count = |r: usize| p.binning.as_ref().map_or(1.0, |b| b.counts[r] as f64);
-    let within = |r: usize| p.binning.as_ref().map_or(0.0, |b| b.within[r]);
-    let n = p.binning.as_ref().map_or(data.len(), |b| b.samples);
-    let ssr_raw: f64 = resid.iter().enumerate().map(|(r, x)| count(r) * x * x + within(r)).sum();
+    // per sample: a bin mean stands for its count, and the scatter inside it is added back
+    let n = p.samples();
+    let ssr_raw: f64 = resid.iter().enumerate().map(|(r, x)| p.count(r) * x * x + p.within(r)).sum();
     // σ² from the unweighted residuals
     let s2 = ssr_raw / (n as f64 - m as f64).max(1.0);
     let cov = covariance(&e.raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
@@ -181,7 +179,7 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         .iter()
         .zip(&p.weights)
         .enumerate()
-        .map(|(r, (x, w))| (w * x).powi(2) + w * w / count(r) * within(r))
+        .map(|(r, (x, w))| (w * x).powi(2) + w * w / p.count(r) * p.within(r))
         .sum();
     let sum_ln_w: f64 = match &p.binning {
         Some(b) => b.sum_ln_w,
@@ -222,8 +220,8 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         .map(|(k, s)| SegmentRow { index: k + 1, kind: s.kind, t0: s.t0, t1: s.t1, v: s.v, n: 0, rms: 0.0 })
         .collect();
     for (r, &sg) in p.seg_of.iter().enumerate() {
-        rows[sg].n += count(r) as usize;
-        rows[sg].rms += count(r) * resid[r] * resid[r] + within(r);
+        rows[sg].n += p.count(r) as usize;
+        rows[sg].rms += p.count(r) * resid[r] * resid[r] + p.within(r);
     }
     rows.iter_mut().for_each(|r| r.rms = if r.n > 0 { (r.rms / r.n as f64).sqrt() } else { 0.0 });
     let curve = Curve {

@@ -30,6 +30,23 @@ pub struct Prepared {
     pub binning: Option<super::Binning>,
 }
 
+impl Prepared {
+    /// Samples the used point `r` stands for: 1, or its bin's count ([`super::bins`]).
+    pub fn count(&self, r: usize) -> f64 {
+        self.binning.as_ref().map_or(1.0, |b| b.counts[r] as f64)
+    }
+
+    /// The friction scatter inside point `r`'s bin that is noise (0 for a sample).
+    pub fn within(&self, r: usize) -> f64 {
+        self.binning.as_ref().map_or(0.0, |b| b.within[r])
+    }
+
+    /// Samples the used points stand for.
+    pub fn samples(&self) -> usize {
+        self.binning.as_ref().map_or(self.used.len(), |b| b.samples)
+    }
+}
+
 /// Vertices of a measured σ(t) are kept to within this fraction of its median, or twice the
 /// sample-to-sample noise if that is larger: a σ error ε shifts friction by about μ ε until
 /// the spring relaxes it, so 1e-4 keeps that below 1e-4 in μ, under lab noise.
