@@ -24,7 +24,7 @@ use crate::data::Record;
 
 /// Records with more used samples than this are fitted on bin means: below it, the fit on the
 /// samples takes a few seconds; above it, the time grows with the samples (10⁶ samples:
-/// 81 s in record loading before bins).
+/// 23 s in record loading before bins, docs/BENCHMARKS.md).
 pub const BIN_ABOVE: usize = 100_000;
 
 /// A bin spans at most this fraction of the time since its segment's start (see the module
