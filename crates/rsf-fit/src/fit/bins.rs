@@ -38,7 +38,7 @@ pub const BIN_FRACTION: f64 = 0.003;
 pub struct Binning {
     /// Samples per used point (bin).
     pub counts: Vec<u32>,
-    /// Each bin's friction scatter that is noise ([`scatter`]: about a line, ≈ (c − 1) σ²).
+    /// Each bin's friction scatter that is noise (about a line, ≈ (c − 1) σ²).
     pub within: Vec<f64>,
     /// Samples in all.
     pub samples: usize,

@@ -103,7 +103,7 @@ pub struct FitOptions {
     /// Python package sets it on KeyboardInterrupt.
     pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
     /// Fit a record with more used samples than this on bin means carrying the same
-    /// information ([`super::bins`]; default [`super::BIN_ABOVE`]); `None`: every sample.
+    /// information ([`super::Binning`]; default [`super::BIN_ABOVE`]); `None`: every sample.
     pub bin_above: Option<usize>,
 }
 

@@ -25,13 +25,13 @@ pub struct Prepared {
     pub normal_stress: Option<NormalStressRecord>,
     /// σ_ref, MPa: the normal stress at the first used sample (k = K/σ_ref); 1 without one.
     pub sigma_ref: f64,
-    /// When the used points are bin means of a large record ([`super::bins`]): what they
+    /// When the used points are bin means of a large record ([`super::Binning`]): what they
     /// summarise.
     pub binning: Option<super::Binning>,
 }
 
 impl Prepared {
-    /// Samples the used point `r` stands for: 1, or its bin's count ([`super::bins`]).
+    /// Samples the used point `r` stands for: 1, or its bin's count ([`super::Binning`]).
     pub fn count(&self, r: usize) -> f64 {
         self.binning.as_ref().map_or(1.0, |b| b.counts[r] as f64)
     }

@@ -134,7 +134,7 @@ pub struct FitResult {
     #[serde(skip)]
     pub curve: Curve,
     /// The bin means the fit was made on, when the record was large enough to be binned
-    /// ([`super::bins`]); `n`, `rms`, the likelihood and the segment table are the samples'.
+    /// ([`super::Binning`]); `n`, `rms`, the likelihood and the segment table are the samples'.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bins: Option<usize>,
     /// Free-parameter names in fit order, transformed scale (`ln` for log-fitted).
