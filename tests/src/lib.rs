@@ -1,4 +1,5 @@
 //! Helpers shared by rsf's cross-crate tests: reference files and the shared data folder.
+#![forbid(unsafe_code)]
 
 use std::path::{Path, PathBuf};
 

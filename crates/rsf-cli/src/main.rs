@@ -3,6 +3,7 @@
 //! Every output goes through `output` (temporary file, renamed when complete; an output that
 //! is an input refused before work starts); every record through the one reader
 //! (`rsf_record`, via `rsf_fit::data`).
+#![forbid(unsafe_code)]
 
 mod args;
 mod batch;

@@ -42,6 +42,7 @@
 //! let mu = model.steady_state_friction(10.0).unwrap();
 //! assert!((mu - (0.6 + (0.01 - 0.015) * 10f64.ln())).abs() < 1e-14);
 //! ```
+#![forbid(unsafe_code)]
 
 pub mod batch;
 pub mod element;

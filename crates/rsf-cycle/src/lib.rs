@@ -17,6 +17,7 @@
 //! | `run.rs` | one simulation: integrate, observe, write |
 //!
 //! Units: m, s, Pa (stresses in MPa only in the station files); years of 3.1536e7 s.
+#![forbid(unsafe_code)]
 
 pub mod elastic;
 pub mod events;

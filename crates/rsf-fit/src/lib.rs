@@ -43,6 +43,7 @@
 //! let ci = result.ci95["a"];
 //! assert!(ci[0] < 0.010 && 0.010 < ci[1]);
 //! ```
+#![forbid(unsafe_code)]
 
 pub mod batch;
 pub mod data;

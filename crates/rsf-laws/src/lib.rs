@@ -22,6 +22,7 @@
 //! let mu = m.steady_state_friction(10.0).unwrap();
 //! assert!((mu - (0.6 + (0.01 - 0.012) * 10f64.ln())).abs() < 1e-14);
 //! ```
+#![forbid(unsafe_code)]
 
 use rsf_core::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 use std::sync::Arc;
@@ -283,7 +284,8 @@ mod tests {
     /// without a stress rate and normal stress, far from and at steady state.
     #[test]
     fn log_form_rates_equal_the_generic_ones() {
-        let laws: Vec<(&str, Box<dyn Fn(&LnArgs) -> (f64, f64)>)> = vec![
+        type Rates = Box<dyn Fn(&LnArgs) -> (f64, f64)>;
+        let laws: Vec<(&str, Rates)> = vec![
             ("aging", Box::new(|s| (Aging.ln_theta_rate(s), Aging.theta_rate(&s.state_args())))),
             ("slip", Box::new(|s| (Slip.ln_theta_rate(s), Slip.theta_rate(&s.state_args())))),
             ("kato-tullis", {

@@ -38,6 +38,7 @@
 //!     assert!(law.v_end < law.v_frozen_state);
 //! }
 //! ```
+#![forbid(unsafe_code)]
 
 pub mod csv;
 mod holds;

@@ -20,6 +20,7 @@
 //! let svg = render("one panel", &[p], 1, (600, 400)).unwrap();
 //! assert!(svg.starts_with("<svg") && svg.contains("0.6060"));
 //! ```
+#![forbid(unsafe_code)]
 
 pub mod chart;
 pub mod fmt;

@@ -3,6 +3,7 @@
 //! Python layer in `python/rsf/__init__.py` turns them into dicts). Solves, fits and
 //! diagnoses run with the GIL released; every error becomes a `ValueError` with the Rust
 //! message.
+#![forbid(unsafe_code)]
 
 mod batch;
 mod fitting;

@@ -27,6 +27,7 @@
 //! Why the `csv` crate: it splits quoted fields exactly as spreadsheets write them and reuses
 //! one buffer per row; the encoding is `encoding_rs`'s. What is this crate's own: finding the
 //! header in a preamble, the lab conventions above, and the checks.
+#![forbid(unsafe_code)]
 
 mod error;
 mod rows;

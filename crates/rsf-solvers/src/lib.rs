@@ -38,6 +38,7 @@
 //! assert!((mu_end - mu_ss).abs() < 1e-6);
 //! assert!((mu_end - implicit.mu.last().unwrap()).abs() < 1e-8);
 //! ```
+#![forbid(unsafe_code)]
 
 mod auto;
 mod dopri5;

@@ -321,8 +321,10 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
     }
     let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
     // ‖y0‖ means nothing for log variables (ln V = 0 at V = 1 µm/s): keep the first guess
-    // from collapsing to round-off so that the curvature estimate below can set the step.
-    h = h.max(1e-9 * span).max(1e3 * h_min(0.0)).min(span);
+    // from collapsing to round-off so that the curvature estimate below can set the step —
+    // round-off of t0 itself: a record whose clock starts at 10⁶ s resolves no step below
+    // ~4e-9 s (found by rsf-testkit's `time_shift`)
+    h = h.max(1e-9 * span).max(1e3 * h_min(t0)).min(span);
     let y1 = y0 + f0 * h;
     let f1 = sys.rhs(t0 + h, &y1);
     stats.rhs_evals += 1;
@@ -334,8 +336,11 @@ pub(crate) fn initial_step<const D: usize, S: OdeSystem<D>>(
     let der2 = der2.sqrt() / h;
     let der12 = der2.max(dnf.sqrt());
     let h1 = if der12 <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / (order as f64 + 1.0)) };
-    (100.0 * h).min(h1).min(span)
+    (100.0 * h).min(h1).max(MIN_STEPS_RESOLVED * h_min(t0)).min(span)
 }
+
+/// The first step is at least this many times the smallest step `t0` resolves.
+const MIN_STEPS_RESOLVED: f64 = 10.0;
 
 /// Clips a proposed step `h` at time `t` so that the integration lands exactly on `t1`;
 /// returns the step and whether it is the last one, or an underflow error.

@@ -1,6 +1,7 @@
 //! A researcher's own crate: it adds a law to rsf without touching rsf's crates.
 //! The code blocks of docs/laws.md are compiled and run as this crate's doctests.
 #![doc = include_str!("../../../docs/laws.md")]
+#![forbid(unsafe_code)]
 
 use rsf_core::{Real, StateArgs, StateLaw};
 
