@@ -14,7 +14,7 @@
 
 use rsf_core::FrictionForm;
 use rsf_core::element::{SlipRateError, friction, ln_theta_rate, psi_term, solve_slip_rate};
-use rsf_laws::{Aging, KatoTullis, Prz, Slip};
+use rsf_laws::{Aging, KatoTullis, Law, Prz, Slip};
 use std::cell::RefCell;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -52,6 +52,21 @@ pub enum RsfLaw {
     RsfLawKatoTullis = 2,
     /// Perrin–Rice–Zheng: dθ/dt = 1 − (Vθ/(2Dc))².
     RsfLawPrz = 3,
+}
+
+impl RsfLaw {
+    /// The C enum value of a registry law, `None` for one this ABI does not carry (Nagata's
+    /// law needs the shear-stress rate). Exhaustive: a new law fails to compile here until the
+    /// ABI decides.
+    pub fn of(law: Law) -> Option<RsfLaw> {
+        match law {
+            Law::Aging => Some(RsfLaw::RsfLawAging),
+            Law::Slip => Some(RsfLaw::RsfLawSlip),
+            Law::KatoTullis => Some(RsfLaw::RsfLawKatoTullis),
+            Law::Prz => Some(RsfLaw::RsfLawPrz),
+            Law::Nagata => None,
+        }
+    }
 }
 
 /// Friction forms by id.
@@ -143,19 +158,26 @@ fn with_law<T>(s: &RsfStateParams, f: impl FnOnce(&dyn Fn(f64, f64) -> f64, f64)
         return Err(fail(RsfStatus::RsfBadInput, format!("state parameters need finite b and dc > 0 (got {s:?})")));
     }
     let (b, dc) = (s.b, s.dc);
-    Ok(match s.law {
-        0 => f(&|x, z| ln_theta_rate(&Aging, x, z, dc, b), 1.0),
-        1 => f(&|x, z| ln_theta_rate(&Slip, x, z, dc, b), 1.0),
-        2 if s.vc.is_finite() && s.vc > 0.0 => {
+    let Some(law) = Law::from_c_id(s.law) else {
+        let known: Vec<String> = Law::ALL.iter().map(|l| format!("{} {}", l.c_id(), l.name())).collect();
+        return Err(fail(RsfStatus::RsfUnknownId, format!("unknown law id {} ({})", s.law, known.join(", "))));
+    };
+    Ok(match law {
+        Law::Aging => f(&|x, z| ln_theta_rate(&Aging, x, z, dc, b), 1.0),
+        Law::Slip => f(&|x, z| ln_theta_rate(&Slip, x, z, dc, b), 1.0),
+        Law::KatoTullis if s.vc.is_finite() && s.vc > 0.0 => {
             let law = KatoTullis { vc: s.vc };
             f(&|x, z| ln_theta_rate(&law, x, z, dc, b), 1.0)
         }
-        2 => return Err(fail(RsfStatus::RsfBadInput, format!("Kato–Tullis needs vc > 0 (got {})", s.vc))),
-        3 => f(&|x, z| ln_theta_rate(&Prz, x, z, dc, b), 2.0),
-        id => {
+        Law::KatoTullis => {
+            return Err(fail(RsfStatus::RsfBadInput, format!("Kato–Tullis needs vc > 0 (got {})", s.vc)));
+        }
+        Law::Prz => f(&|x, z| ln_theta_rate(&Prz, x, z, dc, b), 2.0),
+        // this ABI's rates take no shear-stress rate, which Nagata's law needs
+        Law::Nagata => {
             return Err(fail(
                 RsfStatus::RsfUnknownId,
-                format!("unknown law id {id} (0 aging, 1 slip, 2 kato-tullis, 3 prz)"),
+                "law id 4 (nagata) needs the shear-stress rate, which this ABI version does not carry".into(),
             ));
         }
     })

@@ -197,3 +197,13 @@ fn committed_header_is_what_cbindgen_makes() {
     let committed = std::fs::read_to_string(crate_dir().join("include/rsf.h")).unwrap();
     assert!(fresh == committed, "include/rsf.h is stale: regenerate it with the command in cbindgen.toml");
 }
+
+/// The C enum and the law registry's ids are one numbering.
+#[test]
+fn c_law_ids_are_the_registry_ids() {
+    for &law in rsf_laws::Law::ALL {
+        if let Some(c) = rsf_capi::RsfLaw::of(law) {
+            assert_eq!(c as i32, law.c_id(), "{law}");
+        }
+    }
+}

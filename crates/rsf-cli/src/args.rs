@@ -1,9 +1,19 @@
 //! The command line: the subcommands, their arguments and long help texts (clap derive), and
 //! how a record's column options become the reader's options.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Parser, Subcommand};
+use rsf_fit::data::{DispUnit, DuplicateTimes, TimeUnit};
+use rsf_fit::diagnose::Baseline;
+use rsf_fit::fit::{AlphaFit, LoadingMode, NormalStressMode, Weighting};
+use rsf_laws::Law;
 use std::path::PathBuf;
+
+/// clap's parser for a closed vocabulary: the type's own `FromStr`, shared with Python and the
+/// manifests; its error lists the names.
+fn word<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
+    s.parse()
+}
 
 #[derive(Parser)]
 #[command(name = "rsf", version, about = "Rate-and-state friction: simulate lab friction experiments")]
@@ -34,17 +44,17 @@ pub(crate) struct DataArgs {
     pub(crate) normal_col: Option<String>,
     /// Whether the record's normal stress (--normal-col) drives the model: auto (when it varies
     /// by more than 2% of its median), record (always) or constant (never).
-    #[arg(long, default_value = "auto")]
-    pub(crate) normal_stress_mode: String,
+    #[arg(long, default_value = "auto", value_parser = word::<NormalStressMode>)]
+    pub(crate) normal_stress_mode: NormalStressMode,
     /// Constant normal stress, same units as the shear column.
     #[arg(long)]
     pub(crate) normal_stress: Option<f64>,
     /// Unit of the load-point column: um, mm or m.
-    #[arg(long, default_value = "um")]
-    pub(crate) disp_unit: String,
+    #[arg(long, default_value = "um", value_parser = word::<DispUnit>)]
+    pub(crate) disp_unit: DispUnit,
     /// Unit of the time column: s or ms.
-    #[arg(long, default_value = "s")]
-    pub(crate) time_unit: String,
+    #[arg(long, default_value = "s", value_parser = word::<TimeUnit>)]
+    pub(crate) time_unit: TimeUnit,
     /// Use only rows with time >= this (s).
     #[arg(long)]
     pub(crate) t_min: Option<f64>,
@@ -53,8 +63,8 @@ pub(crate) struct DataArgs {
     pub(crate) t_max: Option<f64>,
     /// Rows whose time repeats the previous row's: `error` (refuse the record) or `drop` (keep
     /// the first of each run, report the count).
-    #[arg(long, default_value = "error")]
-    pub(crate) duplicate_times: String,
+    #[arg(long, default_value = "error", value_parser = word::<DuplicateTimes>)]
+    pub(crate) duplicate_times: DuplicateTimes,
     /// Drop rows with an over-range value (|value| >= 1e30, |friction| >= 10), an instrument's
     /// no-reading value (-999999, -99999), NaN or infinity, and report the count (default: such a
     /// row is an error naming its line and column).
@@ -63,18 +73,8 @@ pub(crate) struct DataArgs {
 }
 
 impl DataArgs {
-    pub(crate) fn normal_stress_mode(&self) -> Result<rsf_fit::fit::NormalStressMode> {
-        use rsf_fit::fit::NormalStressMode as M;
-        Ok(match self.normal_stress_mode.as_str() {
-            "auto" => M::Auto,
-            "record" => M::Record,
-            "constant" => M::Constant,
-            other => anyhow::bail!("--normal-stress-mode `{other}`: use auto, record or constant"),
-        })
-    }
-
     pub(crate) fn read(&self, path: &std::path::Path) -> Result<rsf_fit::data::Record> {
-        use rsf_fit::data::{DispUnit, ReadOptions, TimeUnit};
+        use rsf_fit::data::ReadOptions;
         let opts = ReadOptions {
             time_col: self.time_col.clone(),
             lp_col: self.lp_col.clone(),
@@ -82,17 +82,11 @@ impl DataArgs {
             shear_col: self.shear_col.clone(),
             normal_col: self.normal_col.clone(),
             normal_stress: self.normal_stress,
-            disp_unit: DispUnit::parse(&self.disp_unit)
-                .with_context(|| format!("--disp-unit `{}`: use um, mm or m", self.disp_unit))?,
-            time_unit: TimeUnit::parse(&self.time_unit)
-                .with_context(|| format!("--time-unit `{}`: use s or ms", self.time_unit))?,
+            disp_unit: self.disp_unit,
+            time_unit: self.time_unit,
             t_min: self.t_min,
             t_max: self.t_max,
-            duplicate_times: match self.duplicate_times.as_str() {
-                "error" => rsf_fit::data::DuplicateTimes::Error,
-                "drop" => rsf_fit::data::DuplicateTimes::Drop,
-                other => anyhow::bail!("--duplicate-times `{other}`: use error or drop"),
-            },
+            duplicate_times: self.duplicate_times,
             invalid: if self.drop_invalid {
                 rsf_fit::data::InvalidRows::Drop
             } else {
@@ -173,11 +167,11 @@ pub(crate) struct DiagnoseArgs {
     #[arg(long)]
     pub(crate) stiffness: f64,
     /// Baseline evolution law: slip or aging.
-    #[arg(long, default_value = "slip")]
-    pub(crate) baseline: String,
+    #[arg(long, default_value = "slip", value_parser = word::<Baseline>)]
+    pub(crate) baseline: Baseline,
     /// Forward-model loading: record or protocol.
-    #[arg(long, default_value = "protocol")]
-    pub(crate) loading: String,
+    #[arg(long, default_value = "protocol", value_parser = word::<LoadingMode>)]
+    pub(crate) loading: LoadingMode,
     /// Skip the held-out test.
     #[arg(long)]
     pub(crate) no_heldout: bool,
@@ -246,21 +240,21 @@ pub(crate) struct BatchArgs {
     #[arg(long)]
     pub(crate) normal_stress: Option<f64>,
     /// Unit of the load-point column: um, mm or m.
-    #[arg(long)]
-    pub(crate) disp_unit: Option<String>,
+    #[arg(long, value_parser = word::<DispUnit>)]
+    pub(crate) disp_unit: Option<DispUnit>,
     /// Unit of the time column: s or ms.
-    #[arg(long)]
-    pub(crate) time_unit: Option<String>,
+    #[arg(long, value_parser = word::<TimeUnit>)]
+    pub(crate) time_unit: Option<TimeUnit>,
     /// Evolution law of the fit: aging, slip, kato-tullis, prz, nagata (default slip).
-    #[arg(long)]
-    pub(crate) law: Option<String>,
+    #[arg(long, value_parser = word::<Law>)]
+    pub(crate) law: Option<Law>,
     /// Baseline law of the diagnosis: slip or aging (default slip).
-    #[arg(long)]
-    pub(crate) baseline: Option<String>,
+    #[arg(long, value_parser = word::<Baseline>)]
+    pub(crate) baseline: Option<Baseline>,
     /// Forward-model loading: record or protocol (default: record for --fit, protocol for
     /// --diagnose).
-    #[arg(long)]
-    pub(crate) loading: Option<String>,
+    #[arg(long, value_parser = word::<LoadingMode>)]
+    pub(crate) loading: Option<LoadingMode>,
     /// Fit the stiffness too.
     #[arg(long)]
     pub(crate) fit_stiffness: bool,
@@ -288,8 +282,8 @@ pub(crate) struct FitArgs {
     #[command(flatten)]
     pub(crate) read: DataArgs,
     /// Evolution law of every state variable: aging, slip, kato-tullis, prz, nagata.
-    #[arg(long, default_value = "slip")]
-    pub(crate) law: String,
+    #[arg(long, default_value = "slip", value_parser = word::<Law>)]
+    pub(crate) law: Law,
     /// Laws per state, comma-separated (overrides --law and --states), e.g. slip,aging.
     #[arg(long)]
     pub(crate) laws: Option<String>,
@@ -307,8 +301,8 @@ pub(crate) struct FitArgs {
     pub(crate) fit_slip_trend: bool,
     /// Fit the Linker–Dieterich normal-stress coupling α: `shared` (one α for all states, the
     /// default when the flag is given without a value) or `per-state`.
-    #[arg(long, num_args = 0..=1, default_missing_value = "shared")]
-    pub(crate) fit_alpha: Option<String>,
+    #[arg(long, num_args = 0..=1, default_missing_value = "shared", value_parser = word::<AlphaFit>)]
+    pub(crate) fit_alpha: Option<AlphaFit>,
     /// Constraint NAME=VALUE or NAME-NAME=VALUE (repeatable), e.g. a-b=-0.003, dc=10, vc1=0.01.
     #[arg(long)]
     pub(crate) fix: Vec<String>,
@@ -322,11 +316,11 @@ pub(crate) struct FitArgs {
     #[arg(long)]
     pub(crate) window_um: Option<f64>,
     /// Sample weights: equal (each segment counts equally) or uniform.
-    #[arg(long, default_value = "equal")]
-    pub(crate) weights: String,
+    #[arg(long, default_value = "equal", value_parser = word::<Weighting>)]
+    pub(crate) weights: Weighting,
     /// Forward-model loading: record (measured load-point history) or protocol (detected segments).
-    #[arg(long, default_value = "record")]
-    pub(crate) loading: String,
+    #[arg(long, default_value = "record", value_parser = word::<LoadingMode>)]
+    pub(crate) loading: LoadingMode,
     /// Integrator relative tolerance.
     #[arg(long, default_value_t = 1e-7)]
     pub(crate) rtol: f64,

@@ -3,7 +3,7 @@
 use crate::args::{DiagnoseArgs, FitArgs};
 use anyhow::{Context, Result, bail};
 use rsf_fit::diagnose::{EventFit, event_windows, per_event_fits};
-use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, Weighting, fit, prepare};
+use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
 use rsf_fit::segment::{SegmentOptions, detect};
 use serde::Serialize;
 use std::time::Instant;
@@ -20,48 +20,32 @@ struct Output<'a> {
     wall_s: f64,
 }
 
-fn loading(name: &str) -> Result<LoadingMode> {
-    match name {
-        "record" => Ok(LoadingMode::Record),
-        "protocol" => Ok(LoadingMode::Protocol),
-        l => bail!("--loading `{l}`: use record or protocol"),
-    }
-}
-
 pub fn options(a: &FitArgs) -> Result<FitOptions> {
-    let names: Vec<String> = match &a.laws {
-        Some(l) => l.split(',').map(|s| s.trim().to_string()).collect(),
-        None => vec![a.law.clone(); a.states],
+    let kinds: Vec<rsf_laws::Law> = match &a.laws {
+        Some(l) => l
+            .split(',')
+            .map(|s| s.trim().parse::<rsf_laws::Law>())
+            .collect::<Result<_, _>>()
+            .map_err(anyhow::Error::msg)?,
+        None => vec![a.law; a.states],
     };
-    if names.is_empty() || names.len() > 3 {
-        bail!("1 to 3 state variables are supported by the fitter (got {})", names.len());
+    if kinds.is_empty() || kinds.len() > 3 {
+        bail!("1 to 3 state variables are supported by the fitter (got {})", kinds.len());
     }
-    let laws = names
-        .iter()
-        .map(|n| rsf_laws::law_by_name(n, |p| Some(if p == "vc" { 0.01 } else { 1.0 })).map_err(anyhow::Error::msg))
-        .collect::<Result<Vec<_>>>()?;
+    let laws = kinds.iter().map(|l| l.with_starting_values()).collect::<Vec<_>>();
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }
     let mut o = FitOptions::new(laws, a.stiffness);
     o.fit_stiffness = a.fit_stiffness;
     o.fit_slip_trend = a.fit_slip_trend;
-    o.alpha = match a.fit_alpha.as_deref() {
-        None => rsf_fit::fit::AlphaFit::Fixed,
-        Some("shared") => rsf_fit::fit::AlphaFit::Shared,
-        Some("per-state") => rsf_fit::fit::AlphaFit::PerState,
-        Some(other) => bail!("--fit-alpha `{other}`: use shared or per-state"),
-    };
-    o.normal_stress = a.read.normal_stress_mode()?;
+    o.alpha = a.fit_alpha.unwrap_or(rsf_fit::fit::AlphaFit::Fixed);
+    o.normal_stress = a.read.normal_stress_mode;
     o.fix = a.fix.clone();
     o.mu0_per_segment = a.mu0_per_segment;
     o.window_um = a.window_um;
-    o.weighting = match a.weights.as_str() {
-        "equal" => Weighting::EqualSegments,
-        "uniform" => Weighting::Uniform,
-        w => bail!("--weights `{w}`: use equal or uniform"),
-    };
-    o.loading = loading(&a.loading)?;
+    o.weighting = a.weights;
+    o.loading = a.loading;
     o.rtol = a.rtol;
     o.starts = a.starts;
     if a.every_sample {
@@ -278,13 +262,9 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }
-    if a.baseline != "slip" && a.baseline != "aging" {
-        bail!("--baseline `{}`: use slip or aging", a.baseline);
-    }
-    let mut fo =
-        FitOptions::new(vec![rsf_laws::law_by_name(&a.baseline, |_| None).map_err(anyhow::Error::msg)?], a.stiffness);
-    fo.loading = loading(&a.loading)?;
-    fo.normal_stress = a.read.normal_stress_mode()?;
+    let mut fo = FitOptions::new(vec![a.baseline.law().with_starting_values()], a.stiffness);
+    fo.loading = a.loading;
+    fo.normal_stress = a.read.normal_stress_mode;
     if let Some(g) = a.wall_clock_guard {
         if !(g > 0.0) {
             bail!("--wall-clock-guard {g} must be positive (s)");

@@ -228,7 +228,14 @@ fn fit_errors_are_named() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown law `dieterich`"));
     let out = rsf().args(["fit", repo().join(BASALT).to_str().unwrap(), "--stiffness=-1"]).output().unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("--stiffness -1 must be positive"));
-    assert!(run(&["--weights", "heavy"]).contains("--weights `heavy`"));
+    // a closed option's bad value is a usage error (clap: exit 2) naming the option and the names
+    let out = rsf().args(fit_args()).args(["--weights", "heavy"]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--weights") && err.contains("unknown weights `heavy`: use equal-segments or uniform"),
+        "{err}"
+    );
     let out = rsf().args(["fit", "/nonexistent.csv", "--stiffness", "0.01"]).output().unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
     let bad = tmp("bad.csv");

@@ -51,6 +51,9 @@ mod law;
 mod loading;
 mod model;
 pub mod nondim;
+pub mod vocabulary;
+#[doc(hidden)]
+pub use serde as __serde;
 mod system;
 
 pub use friction::FrictionForm;

@@ -247,32 +247,103 @@ impl StateLaw for Nagata {
     }
 }
 
-/// The law names accepted in protocol files.
-pub const LAW_NAMES: [&str; 5] = ["aging", "slip", "kato-tullis", "prz", "nagata"];
+/// The built-in laws: the one place each is listed — its name in files and on the command
+/// line, its own parameters, its constructor, its id in the C ABI and its name in words. A new
+/// variant fails to compile until every match on it (the CLI, Python, the C ABI, the report)
+/// handles it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Law {
+    /// [`Aging`].
+    Aging,
+    /// [`Slip`].
+    Slip,
+    /// [`KatoTullis`].
+    KatoTullis,
+    /// [`Prz`].
+    Prz,
+    /// [`Nagata`].
+    Nagata,
+}
+
+rsf_core::vocabulary!(Law, "law", {
+    Aging => "aging",
+    Slip => "slip",
+    KatoTullis => "kato-tullis",
+    Prz => "prz",
+    Nagata => "nagata",
+});
+
+impl Law {
+    /// The name in prose (`Kato–Tullis`, `PRZ`).
+    pub fn words(self) -> &'static str {
+        match self {
+            Law::Aging => "Aging",
+            Law::Slip => "Slip",
+            Law::KatoTullis => "Kato–Tullis",
+            Law::Prz => "PRZ",
+            Law::Nagata => "Nagata",
+        }
+    }
+
+    /// The law's own parameters (`vc`, µm/s; `c`, dimensionless).
+    pub fn parameters(self) -> &'static [&'static str] {
+        match self {
+            Law::Aging | Law::Slip | Law::Prz => &[],
+            Law::KatoTullis => &["vc"],
+            Law::Nagata => &["c"],
+        }
+    }
+
+    /// Where a fit starts each of the law's own parameters (Vc 0.01 µm/s; Nagata's c 1).
+    pub fn starting_value(self, parameter: &str) -> Option<f64> {
+        match (self, parameter) {
+            (Law::KatoTullis, "vc") => Some(0.01),
+            (Law::Nagata, "c") => Some(1.0),
+            (Law::KatoTullis | Law::Nagata | Law::Aging | Law::Slip | Law::Prz, _) => None,
+        }
+    }
+
+    /// The law's id in the C ABI (`RsfStateParams.law`).
+    pub fn c_id(self) -> i32 {
+        match self {
+            Law::Aging => 0,
+            Law::Slip => 1,
+            Law::KatoTullis => 2,
+            Law::Prz => 3,
+            Law::Nagata => 4,
+        }
+    }
+
+    /// The law of a C ABI id.
+    pub fn from_c_id(id: i32) -> Option<Law> {
+        Law::ALL.iter().copied().find(|l| l.c_id() == id)
+    }
+
+    /// The law with its own parameters looked up by `param`; the error names a missing one.
+    pub fn build(self, param: impl Fn(&'static str) -> Option<f64>) -> Result<Arc<dyn DynStateLaw>, String> {
+        let need = |p: &'static str| param(p).ok_or_else(|| format!("law `{}` needs parameter `{p}`", self.name()));
+        Ok(match self {
+            Law::Aging => Arc::new(Aging),
+            Law::Slip => Arc::new(Slip),
+            Law::KatoTullis => Arc::new(KatoTullis { vc: need("vc")? }),
+            Law::Prz => Arc::new(Prz),
+            Law::Nagata => Arc::new(Nagata { c: need("c")? }),
+        })
+    }
+
+    /// The law with its parameters at their fit starting values ([`Law::starting_value`]).
+    pub fn with_starting_values(self) -> Arc<dyn DynStateLaw> {
+        match self.build(|p| self.starting_value(p)) {
+            Ok(l) => l,
+            Err(e) => unreachable!("every parameter of a built-in law has a starting value: {e}"),
+        }
+    }
+}
 
 /// A built-in law by name, with its own parameters looked up by `param` (e.g. `"vc"`).
 /// The error names the missing or unknown item.
 pub fn law_by_name(name: &str, param: impl Fn(&'static str) -> Option<f64>) -> Result<Arc<dyn DynStateLaw>, String> {
-    let need = |p: &'static str| param(p).ok_or_else(|| format!("law `{name}` needs parameter `{p}`"));
-    Ok(match name {
-        "aging" => Arc::new(Aging),
-        "slip" => Arc::new(Slip),
-        "kato-tullis" => Arc::new(KatoTullis { vc: need("vc")? }),
-        "prz" => Arc::new(Prz),
-        "nagata" => Arc::new(Nagata { c: need("c")? }),
-        other => {
-            return Err(format!("unknown law `{other}`; known laws: {}", LAW_NAMES.join(", ")));
-        }
-    })
-}
-
-/// Law-specific parameter names of a built-in law.
-pub fn law_parameters(name: &str) -> &'static [&'static str] {
-    match name {
-        "kato-tullis" => &["vc"],
-        "nagata" => &["c"],
-        _ => &[],
-    }
+    name.parse::<Law>()?.build(param)
 }
 
 #[cfg(test)]
@@ -412,9 +483,15 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_errors_name_the_problem() {
-        for n in LAW_NAMES {
-            let law = law_by_name(n, |_| Some(1.0)).unwrap();
-            assert_eq!(law.name(), n);
+        for &l in Law::ALL {
+            let law = law_by_name(l.name(), |_| Some(1.0)).unwrap();
+            assert_eq!(law.name(), l.name());
+            assert_eq!(l.name().parse::<Law>(), Ok(l));
+            assert_eq!(Law::from_c_id(l.c_id()), Some(l));
+            // the parameters the registry lists are the ones the law reports
+            let own: Vec<&str> = law.parameters().iter().map(|(n, _)| *n).collect();
+            assert_eq!(own, l.parameters());
+            assert_eq!(l.with_starting_values().name(), l.name());
         }
         assert!(law_by_name("kato-tullis", |_| None).unwrap_err().contains("vc"));
         assert!(law_by_name("dieterich", |_| None).unwrap_err().contains("unknown law `dieterich`"));

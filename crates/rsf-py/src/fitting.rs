@@ -62,27 +62,19 @@ fn record(
     Ok(Record { time, load_point: lp, mu, normal_stress: sn, source: "numpy arrays".into(), ..Default::default() })
 }
 
-fn normal_stress_mode_of(mode: &str) -> PyResult<rsf_fit::fit::NormalStressMode> {
-    use rsf_fit::fit::NormalStressMode as M;
-    Ok(match mode {
-        "auto" => M::Auto,
-        "record" => M::Record,
-        "constant" => M::Constant,
-        other => return Err(value_error(format!("normal_stress_mode `{other}`: use auto, record or constant"))),
-    })
+/// A closed vocabulary's value from Python's string, by the type's own `FromStr` (the one the
+/// CLI and manifests use); a `ValueError` naming the names otherwise.
+fn word<T: std::str::FromStr<Err = String>>(s: &str) -> PyResult<T> {
+    s.parse().map_err(value_error)
 }
 
 fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {
     if !(stiffness > 0.0 && stiffness.is_finite()) {
         return Err(value_error(format!("stiffness {stiffness} must be positive and finite (1/µm)")));
     }
-    let law = rsf_laws::law_by_name(law, |p| Some(if p == "vc" { 0.01 } else { 1.0 })).map_err(value_error)?;
+    let law = word::<rsf_laws::Law>(law)?.with_starting_values();
     let mut o = FitOptions::new(vec![law], stiffness);
-    o.loading = match loading {
-        "protocol" => LoadingMode::Protocol,
-        "record" => LoadingMode::Record,
-        other => return Err(value_error(format!("loading `{other}`: use protocol or record"))),
-    };
+    o.loading = word::<LoadingMode>(loading)?;
     o.fit_stiffness = fit_stiffness;
     Ok(o)
 }
@@ -112,12 +104,7 @@ fn interruptible<T: Send>(py: Python<'_>, cancel: &Arc<AtomicBool>, work: impl F
 }
 
 fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
-    Ok(match fit_alpha {
-        None => rsf_fit::fit::AlphaFit::Fixed,
-        Some("shared") => rsf_fit::fit::AlphaFit::Shared,
-        Some("per-state") => rsf_fit::fit::AlphaFit::PerState,
-        Some(other) => return Err(value_error(format!("fit_alpha `{other}`: use shared or per-state"))),
-    })
+    fit_alpha.map_or(Ok(rsf_fit::fit::AlphaFit::Fixed), word)
 }
 
 /// Fits a law to a record (arrays); returns the CLI's fit JSON (with `mcmc` when asked) and
@@ -166,10 +153,10 @@ pub fn fit_json(
         }
         opts.laws = names
             .iter()
-            .map(|n| rsf_laws::law_by_name(n, |p| Some(if p == "vc" { 0.01 } else { 1.0 })).map_err(value_error))
+            .map(|n| word::<rsf_laws::Law>(n).map(rsf_laws::Law::with_starting_values))
             .collect::<PyResult<_>>()?;
     }
-    opts.normal_stress = normal_stress_mode_of(normal_stress_mode)?;
+    opts.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     opts.alpha = alpha_fit(fit_alpha)?;
     opts.fit_slip_trend = fit_slip_trend;
     opts.fix = fix;
@@ -186,11 +173,7 @@ pub fn fit_json(
     }
     opts.window_um = window_um;
     opts.mu0_per_segment = mu0_per_segment;
-    opts.weighting = match weights {
-        "equal" => rsf_fit::fit::Weighting::EqualSegments,
-        "uniform" => rsf_fit::fit::Weighting::Uniform,
-        other => return Err(value_error(format!("weights `{other}`: use equal or uniform"))),
-    };
+    opts.weighting = word::<rsf_fit::fit::Weighting>(weights)?;
     let cancel = Arc::new(AtomicBool::new(false));
     opts.cancel = Some(cancel.clone());
     let out = interruptible(py, &cancel, || -> Result<_, String> {
@@ -264,12 +247,10 @@ pub fn diagnose_json(
     name: &str,
     progress: bool,
 ) -> PyResult<(String, String)> {
-    if baseline != "slip" && baseline != "aging" {
-        return Err(value_error(format!("baseline `{baseline}`: use slip or aging")));
-    }
+    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
     let rec = record(time, load_point, mu, normal_stress)?;
-    let mut fo = fit_options(baseline, stiffness, loading, false)?;
-    fo.normal_stress = normal_stress_mode_of(normal_stress_mode)?;
+    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
+    fo.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     let cancel = Arc::new(AtomicBool::new(false));
     fo.cancel = Some(cancel.clone());
     let mut dopts = DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) };

@@ -202,5 +202,7 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::batch_row, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_summary, m)?)?;
     m.add("SolveError", m.py().get_type::<SolveError>())?;
+    // the built-in law names, from the one registry (rsf_laws::Law)
+    m.add("LAW_NAMES", rsf_laws::Law::NAMES.to_vec())?;
     Ok(())
 }

@@ -120,6 +120,30 @@ pub enum DuplicateTimes {
     Drop,
 }
 
+impl DuplicateTimes {
+    /// The names, in options: `error`, `drop` (this crate stands below rsf-core's
+    /// `vocabulary!`, so they are written out here).
+    pub const NAMES: &'static [&'static str] = &["error", "drop"];
+    /// The name.
+    pub fn name(self) -> &'static str {
+        match self {
+            DuplicateTimes::Error => "error",
+            DuplicateTimes::Drop => "drop",
+        }
+    }
+}
+
+impl std::str::FromStr for DuplicateTimes {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "error" => Ok(DuplicateTimes::Error),
+            "drop" => Ok(DuplicateTimes::Drop),
+            other => Err(format!("unknown duplicate-times handling `{other}`: use error or drop")),
+        }
+    }
+}
+
 /// What to read.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spec {

@@ -241,7 +241,8 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         let s = st.get_ref();
         let field = format!("model.state[{}]", i + 1);
         let law_name = s.law.get_ref().as_str();
-        let wanted = rsf_laws::law_parameters(law_name);
+        let kind: rsf_laws::Law = law_name.parse().map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
+        let wanted = kind.parameters();
         for (pname, val) in [("vc", &s.vc), ("c", &s.c)] {
             if let Some(v) = val {
                 if !wanted.contains(&pname) {
@@ -253,13 +254,14 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                 }
             }
         }
-        let law = rsf_laws::law_by_name(law_name, |p| match p {
-            "vc" => s.vc.as_ref().map(|v| *v.get_ref()),
-            "c" => s.c.as_ref().map(|v| *v.get_ref()),
-            _ => None,
-        })
-        .map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
-        if law_name == "nagata" && *s.b.get_ref() == 0.0 {
+        let law = kind
+            .build(|p| match p {
+                "vc" => s.vc.as_ref().map(|v| *v.get_ref()),
+                "c" => s.c.as_ref().map(|v| *v.get_ref()),
+                _ => None,
+            })
+            .map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
+        if kind == rsf_laws::Law::Nagata && *s.b.get_ref() == 0.0 {
             return Err(err(
                 Some(&s.b.span()),
                 &format!("{field}.b"),

@@ -2,7 +2,9 @@
 //! or a folder whose records share one set of options.
 
 use crate::data::{DispUnit, TimeUnit};
+use crate::diagnose::Baseline;
 use crate::fit::LoadingMode;
+use rsf_laws::Law;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -25,20 +27,20 @@ pub struct RecordOptions {
     /// Constant normal stress, MPa.
     pub normal_stress: Option<f64>,
     /// Unit of the load-point column: `um`, `mm` or `m`.
-    pub disp_unit: Option<String>,
+    pub disp_unit: Option<DispUnit>,
     /// Unit of the time column: `s` or `ms`.
-    pub time_unit: Option<String>,
+    pub time_unit: Option<TimeUnit>,
     /// Use only rows with time ≥ this, s.
     pub t_min: Option<f64>,
     /// Use only rows with time ≤ this, s.
     pub t_max: Option<f64>,
     /// Evolution law of the fit (`rsf fit --law`).
-    pub law: Option<String>,
+    pub law: Option<Law>,
     /// Baseline law of the diagnosis: `slip` or `aging`.
-    pub baseline: Option<String>,
+    pub baseline: Option<Baseline>,
     /// Forward-model loading: `record` or `protocol` (default: `record` for a fit, `protocol`
     /// for a diagnosis, as the single-record commands).
-    pub loading: Option<String>,
+    pub loading: Option<LoadingMode>,
     /// Fit the stiffness too.
     pub fit_stiffness: Option<bool>,
     /// Fit a slip trend g too.
@@ -77,7 +79,8 @@ impl RecordOptions {
         }
     }
 
-    /// Checks every closed-set value and every number's range: the option at fault and why.
+    /// Checks every number's range (closed sets are typed: checked when read): the option at
+    /// fault and why.
     pub fn check(&self) -> Result<(), (&'static str, String)> {
         if let Some(k) = self.stiffness {
             if !(k > 0.0 && k.is_finite()) {
@@ -89,38 +92,12 @@ impl RecordOptions {
                 return Err(("normal_stress", format!("normal_stress {s} must be positive and finite (MPa)")));
             }
         }
-        if let Some(u) = &self.disp_unit {
-            DispUnit::parse(u).ok_or_else(|| ("disp_unit", format!("disp_unit `{u}`: use um, mm or m")))?;
-        }
-        if let Some(u) = &self.time_unit {
-            TimeUnit::parse(u).ok_or_else(|| ("time_unit", format!("time_unit `{u}`: use s or ms")))?;
-        }
-        if let Some(l) = &self.law {
-            rsf_laws::law_by_name(l, |_| Some(1.0)).map_err(|e| ("law", format!("law `{l}`: {e}")))?;
-        }
-        if let Some(b) = &self.baseline {
-            if b != "slip" && b != "aging" {
-                return Err(("baseline", format!("baseline `{b}`: use slip or aging")));
-            }
-        }
-        if let Some(l) = &self.loading {
-            loading(l).map_err(|e| ("loading", e))?;
-        }
         if let (Some(a), Some(b)) = (self.t_min, self.t_max) {
             if !(a < b) {
                 return Err(("t_max", format!("t_min {a} is not below t_max {b}")));
             }
         }
         Ok(())
-    }
-}
-
-/// `record` or `protocol`.
-pub(super) fn loading(name: &str) -> Result<LoadingMode, String> {
-    match name {
-        "record" => Ok(LoadingMode::Record),
-        "protocol" => Ok(LoadingMode::Protocol),
-        l => Err(format!("loading `{l}`: use record or protocol")),
     }
 }
 
@@ -200,6 +177,9 @@ fn set(o: &mut RecordOptions, col: &str, cell: &str) -> Result<(), String> {
         _ => Err(format!("`{cell}` is not true or false")),
     };
     let text = || Some(cell.to_string());
+    fn word<T: std::str::FromStr<Err = String>>(cell: &str) -> Result<Option<T>, String> {
+        cell.parse().map(Some)
+    }
     match col {
         "stiffness" => o.stiffness = Some(num()?),
         "time_col" => o.time_col = text(),
@@ -208,13 +188,13 @@ fn set(o: &mut RecordOptions, col: &str, cell: &str) -> Result<(), String> {
         "shear_col" => o.shear_col = text(),
         "normal_col" => o.normal_col = text(),
         "normal_stress" => o.normal_stress = Some(num()?),
-        "disp_unit" => o.disp_unit = text(),
-        "time_unit" => o.time_unit = text(),
+        "disp_unit" => o.disp_unit = word(cell)?,
+        "time_unit" => o.time_unit = word(cell)?,
         "t_min" => o.t_min = Some(num()?),
         "t_max" => o.t_max = Some(num()?),
-        "law" => o.law = text(),
-        "baseline" => o.baseline = text(),
-        "loading" => o.loading = text(),
+        "law" => o.law = word(cell)?,
+        "baseline" => o.baseline = word(cell)?,
+        "loading" => o.loading = word(cell)?,
         "fit_stiffness" => o.fit_stiffness = Some(flag()?),
         "fit_slip_trend" => o.fit_slip_trend = Some(flag()?),
         "drop_invalid" => o.drop_invalid = Some(flag()?),
@@ -320,7 +300,7 @@ mod tests {
         let e = read_manifest(&p).unwrap();
         assert_eq!(e.len(), 2);
         assert_eq!(e[0].options.stiffness, Some(0.01));
-        assert_eq!(e[0].options.law.as_deref(), Some("aging"));
+        assert_eq!(e[0].options.law, Some(Law::Aging));
         assert_eq!(e[0].options.fit_stiffness, Some(true));
         assert_eq!(e[0].meta, vec![("meta_sample".to_string(), "S1".to_string())]);
         assert_eq!(e[1].options, RecordOptions::default());
@@ -334,7 +314,10 @@ mod tests {
             ("file,stifness\na.csv,1\n", "unknown column `stifness`"),
             ("stiffness\n1\n", "no `file` column"),
             ("file,stiffness\na.csv,1\nb.csv,x\n", "line 3, column `stiffness`: `x` is not a number"),
-            ("file,loading\na.csv,recrd\n", "line 2, column `loading`: loading `recrd`"),
+            (
+                "file,loading\na.csv,recrd\n",
+                "line 2, column `loading`: unknown loading `recrd`: use record or protocol",
+            ),
             ("file,law\na.csv,agin\n", "line 2, column `law`"),
             ("file,stiffness\na.csv,-1\n", "line 2, column `stiffness`: stiffness -1 must be positive"),
             ("file\na.csv\na.csv\n", "line 3, column `file`: `a.csv` is listed already on line 2"),
@@ -351,8 +334,8 @@ mod tests {
     #[test]
     fn defaults_fill_unset_options() {
         let a = RecordOptions { stiffness: Some(1.0), ..Default::default() };
-        let d = RecordOptions { stiffness: Some(2.0), law: Some("slip".into()), ..Default::default() };
+        let d = RecordOptions { stiffness: Some(2.0), law: Some(Law::Slip), ..Default::default() };
         let m = a.or(&d);
-        assert_eq!((m.stiffness, m.law.as_deref()), (Some(1.0), Some("slip")));
+        assert_eq!((m.stiffness, m.law), (Some(1.0), Some(Law::Slip)));
     }
 }

@@ -1,10 +1,10 @@
 //! One record's work: read, segment, fit and/or diagnose; a failure (or a panic) becomes the
 //! record's status, never the batch's end.
 
-use super::manifest::{Entry, RecordOptions, loading};
+use super::manifest::{Entry, RecordOptions};
 use super::row::{Param, Row, Status};
 use crate::data::{DispUnit, InvalidRows, ReadOptions, Record, TimeUnit, read_record};
-use crate::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use crate::diagnose::{Baseline, DiagnoseOptions, Diagnosis, diagnose};
 use crate::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
 use crate::segment::{Segment, SegmentKind, SegmentOptions, detect};
 use serde::{Deserialize, Serialize};
@@ -41,9 +41,8 @@ fn read_options(o: &RecordOptions) -> ReadOptions {
         shear_col: o.shear_col.clone(),
         normal_col: o.normal_col.clone(),
         normal_stress: o.normal_stress,
-        // checked when the options were read
-        disp_unit: o.disp_unit.as_deref().and_then(DispUnit::parse).unwrap_or(DispUnit::Um),
-        time_unit: o.time_unit.as_deref().and_then(TimeUnit::parse).unwrap_or(TimeUnit::S),
+        disp_unit: o.disp_unit.unwrap_or(DispUnit::Um),
+        time_unit: o.time_unit.unwrap_or(TimeUnit::S),
         t_min: o.t_min,
         t_max: o.t_max,
         invalid: if o.drop_invalid == Some(true) { InvalidRows::Drop } else { InvalidRows::Error },
@@ -85,10 +84,9 @@ fn stiffness(o: &RecordOptions) -> Result<f64, String> {
 }
 
 fn fit_options(o: &RecordOptions) -> Result<FitOptions, String> {
-    let law = o.law.as_deref().unwrap_or("slip");
-    let l = rsf_laws::law_by_name(law, |p| Some(if p == "vc" { 0.01 } else { 1.0 }))?;
+    let l = o.law.unwrap_or(rsf_laws::Law::Slip).with_starting_values();
     let mut fo = FitOptions::new(vec![l], stiffness(o)?);
-    fo.loading = o.loading.as_deref().map_or(Ok(LoadingMode::Record), loading)?;
+    fo.loading = o.loading.unwrap_or(LoadingMode::Record);
     fo.fit_stiffness = o.fit_stiffness == Some(true);
     fo.fit_slip_trend = o.fit_slip_trend == Some(true);
     fo.starts = FIT_STARTS;
@@ -96,9 +94,9 @@ fn fit_options(o: &RecordOptions) -> Result<FitOptions, String> {
 }
 
 fn diagnose_options(o: &RecordOptions, threads: usize) -> Result<DiagnoseOptions, String> {
-    let law = rsf_laws::law_by_name(o.baseline.as_deref().unwrap_or("slip"), |_| None)?;
+    let law = o.baseline.unwrap_or(Baseline::Slip).law().with_starting_values();
     let mut fo = FitOptions::new(vec![law], stiffness(o)?);
-    fo.loading = o.loading.as_deref().map_or(Ok(LoadingMode::Protocol), loading)?;
+    fo.loading = o.loading.unwrap_or(LoadingMode::Protocol);
     Ok(DiagnoseOptions { threads, seed: o.seed.unwrap_or(1), ..DiagnoseOptions::new(fo) })
 }
 

@@ -23,16 +23,9 @@ impl DispUnit {
             Self::M => 1e6,
         }
     }
-    /// From `um`, `mm` or `m`.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "um" | "µm" | "micron" | "microns" => Some(Self::Um),
-            "mm" => Some(Self::Mm),
-            "m" => Some(Self::M),
-            _ => None,
-        }
-    }
 }
+
+rsf_core::vocabulary!(DispUnit, "displacement unit", { Um => "um" | "µm" | "micron" | "microns", Mm => "mm", M => "m" });
 
 /// Time unit of the file's time column.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,15 +44,9 @@ impl TimeUnit {
             Self::Ms => 1e-3,
         }
     }
-    /// From `s` or `ms`.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "s" => Some(Self::S),
-            "ms" => Some(Self::Ms),
-            _ => None,
-        }
-    }
 }
+
+rsf_core::vocabulary!(TimeUnit, "time unit", { S => "s", Ms => "ms" });
 
 /// Which columns to read and how to convert them.
 #[derive(Clone, Debug)]

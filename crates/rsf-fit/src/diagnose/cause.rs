@@ -2,6 +2,7 @@
 //! its words, and the effect parameters it reports.
 
 use crate::fit::{AlphaFit, FitOptions, FitResult};
+use rsf_laws::Law;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -51,11 +52,6 @@ impl Cause {
         }
     }
 
-    /// The cause of a name; `None` for an unknown name.
-    pub fn parse(name: &str) -> Option<Self> {
-        [Self::None].into_iter().chain(Self::CANDIDATES).find(|c| c.as_str() == name)
-    }
-
     /// The extension in words, for a baseline of `base_law`.
     pub fn describe(self, base_law: &str) -> String {
         match self {
@@ -92,7 +88,7 @@ impl Cause {
                 if o.laws[0].name() != base_law || o.laws.len() != 1 {
                     return None;
                 }
-                o.laws[0] = builtin("kato-tullis");
+                o.laws[0] = builtin(Law::KatoTullis);
             }
             Self::SlipTrend => {
                 if o.fit_slip_trend {
@@ -166,12 +162,33 @@ pub fn effect_of(causes: &[Cause], f: &FitResult) -> BTreeMap<String, serde_json
     effect
 }
 
-/// The other of the two classic laws.
-pub(super) fn other_law(base_law: &str) -> &'static str {
-    if base_law == "aging" { "slip" } else { "aging" }
+/// The baseline law of a diagnosis: one of the two classic laws (the candidates try the other).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Baseline {
+    /// Ruina's Slip law (the default: it fits velocity steps of bare rock best).
+    Slip,
+    /// Dieterich's Aging law.
+    Aging,
 }
 
-/// A built-in law by name (Vc starts at 0.01 µm/s; the fit sets it).
-pub(super) fn builtin(n: &str) -> Arc<dyn rsf_core::DynStateLaw> {
-    rsf_laws::law_by_name(n, |q| Some(if q == "vc" { 0.01 } else { 1.0 })).expect("built-in law")
+rsf_core::vocabulary!(Baseline, "baseline", { Slip => "slip", Aging => "aging" });
+
+impl Baseline {
+    /// The law.
+    pub fn law(self) -> Law {
+        match self {
+            Baseline::Slip => Law::Slip,
+            Baseline::Aging => Law::Aging,
+        }
+    }
+}
+
+/// The other of the two classic laws.
+pub(super) fn other_law(base_law: &str) -> Law {
+    if base_law == Law::Aging.name() { Law::Slip } else { Law::Aging }
+}
+
+/// A built-in law at its fit starting values (Vc 0.01 µm/s; the fit sets it).
+pub(super) fn builtin(law: Law) -> Arc<dyn rsf_core::DynStateLaw> {
+    law.with_starting_values()
 }

@@ -95,7 +95,9 @@ pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
         Cause::SlipTrend => p.g = p2.g,
         Cause::Stiffness => p.k = p2.k,
         Cause::NormalStressCoupling => p.alpha = p2.alpha.clone(),
-        _ => {}
+        // nothing to carry over: the baseline, a second state the first fit already has, or
+        // a law change (its fit starts from its own law's parameters)
+        Cause::SecondStateVariable | Cause::None | Cause::EvolutionLaw => {}
     }
     p
 }

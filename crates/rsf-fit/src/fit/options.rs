@@ -10,8 +10,7 @@ use std::sync::Arc;
 pub const FIT_MAX_STEPS: u64 = 200_000;
 
 /// What drives the forward model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LoadingMode {
     /// The measured load-point history (piecewise linear between samples).
     Record,
@@ -19,9 +18,10 @@ pub enum LoadingMode {
     Protocol,
 }
 
+rsf_core::vocabulary!(LoadingMode, "loading", { Record => "record", Protocol => "protocol" });
+
 /// How samples are weighted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Weighting {
     /// Each segment counts equally (weight ∝ 1/N_samples of the segment).
     EqualSegments,
@@ -29,9 +29,10 @@ pub enum Weighting {
     Uniform,
 }
 
+rsf_core::vocabulary!(Weighting, "weights", { EqualSegments => "equal-segments" | "equal", Uniform => "uniform" });
+
 /// Whether a record's normal stress drives the forward model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NormalStressMode {
     /// Drive σ(t) from the record's normal-stress column when it varies by more than
     /// [`NORMAL_STRESS_VARIES`] of its median; constant otherwise.
@@ -42,14 +43,19 @@ pub enum NormalStressMode {
     Record,
 }
 
+rsf_core::vocabulary!(NormalStressMode, "normal-stress mode", {
+    Auto => "auto",
+    Record => "record",
+    Constant => "constant",
+});
+
 /// A normal stress whose range is below this fraction of its median counts as constant in
 /// [`NormalStressMode::Auto`]: servo noise and drift of a nominally constant σ stay well
 /// below 2 %, while the normal-stress steps of lab protocols are 5–100 %.
 pub const NORMAL_STRESS_VARIES: f64 = 0.02;
 
 /// Which Linker–Dieterich coefficients a fit frees.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AlphaFit {
     /// α fixed (at 0 unless given by `initial` or `fix`).
     Fixed,
@@ -58,6 +64,8 @@ pub enum AlphaFit {
     /// One α per state variable.
     PerState,
 }
+
+rsf_core::vocabulary!(AlphaFit, "alpha fit", { Fixed => "fixed", Shared => "shared", PerState => "per-state" });
 
 /// Fit settings.
 #[derive(Clone, Debug)]

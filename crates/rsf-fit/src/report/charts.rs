@@ -99,7 +99,7 @@ pub fn models_svg(d: &Diagnosis) -> Result<String, PlotError> {
     let ext = d.extended.as_ref().map(|e| &e.curve).filter(|e| e.time.len() == b.time.len());
     let idx = thin(b.time.len(), 3000);
     let bands = bands(b);
-    let ext_label = format!("with {}", cause_words(&d.cause.to_string()));
+    let ext_label = format!("with {}", cause_words(d.cause));
     let mut top = Panel::new("", LOAD_POINT, "friction μ");
     top.bands = bands.clone();
     top = top.with(Series::dots("data".to_string(), idx.iter().map(|&i| (b.load_point[i], b.data[i])).collect(), GREY));
@@ -129,7 +129,7 @@ pub fn models_svg(d: &Diagnosis) -> Result<String, PlotError> {
 pub fn residuals_svg(d: &Diagnosis) -> Result<String, PlotError> {
     let b = &d.baseline.curve;
     let ext = d.extended.as_ref().map(|e| &e.curve).filter(|e| e.time.len() == b.time.len());
-    let ext_label = format!("with {}", cause_words(&d.cause.to_string()));
+    let ext_label = format!("with {}", cause_words(d.cause));
     let seg_rms = |c: &Curve| -> Vec<(f64, f64)> {
         let n = c.segment.iter().max().map_or(0, |m| m + 1);
         let mut acc = vec![(0.0, 0usize); n];

@@ -44,7 +44,7 @@ pub(super) fn gain(d: &Diagnosis) -> String {
     let mut rows = vec![(
         "chosen".to_string(),
         vec![
-            format!("<l>{}", esc(&cause_words(&d.cause.to_string()))),
+            format!("<l>{}", esc(cause_words(d.cause))),
             score(g.delta_bic),
             score(g.delta_aic),
             fmt_pair(d.baseline.rms, ext_rms, 3),
@@ -56,7 +56,7 @@ pub(super) fn gain(d: &Diagnosis) -> String {
         rows.push((
             "second".into(),
             vec![
-                format!("<l>+ {} (against the first extension)", esc(&cause_words(&s.cause.to_string()))),
+                format!("<l>+ {} (against the first extension)", esc(cause_words(s.cause))),
                 score(s.delta_bic),
                 "–".into(),
                 fmt_pair(ext_rms, s.fit.rms, 3),
@@ -116,10 +116,10 @@ pub(super) fn effect(d: &Diagnosis) -> String {
 pub(super) fn parameters(d: &Diagnosis) -> String {
     let mut fits: Vec<(String, &FitResult)> = vec![("baseline".into(), &d.baseline)];
     if let Some(e) = &d.extended {
-        fits.push((format!("with {}", cause_words(&d.cause.to_string())), e));
+        fits.push((format!("with {}", cause_words(d.cause)), e));
     }
     if let Some(s) = &d.secondary {
-        fits.push((format!("and {}", cause_words(&s.cause.to_string())), &s.fit));
+        fits.push((format!("and {}", cause_words(s.cause)), &s.fit));
     }
     let rows_of: Vec<Vec<(String, String, bool)>> = fits.iter().map(|(_, f)| param_rows(f)).collect();
     // row order: the longest list's, then any names only the others have
@@ -169,7 +169,7 @@ pub(super) fn parameters(d: &Diagnosis) -> String {
 /// Data, baseline and extended model, residuals, against load point.
 pub(super) fn models(d: &Diagnosis) -> String {
     let ext = if d.extended.is_some() {
-        format!(", red the model with {}", esc(&cause_words(&d.cause.to_string())))
+        format!(", red the model with {}", esc(cause_words(d.cause)))
     } else {
         String::new()
     };
@@ -280,7 +280,6 @@ pub(super) fn events(d: &Diagnosis) -> String {
 
 /// Every candidate extension and its score.
 pub(super) fn candidates(d: &Diagnosis) -> String {
-    let chosen = d.cause.to_string();
     // held-out rms in one form down both columns
     let n = d.candidates.len();
     let nan = f64::NAN;
@@ -292,14 +291,13 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let cause = c.cause.to_string();
-            let class = if cause == chosen { "chosen" } else { "" };
+            let class = if c.cause == d.cause { "chosen" } else { "" };
             let bic =
                 if c.delta_bic < DECISIVE { format!("<b>{}</b>", score(c.delta_bic)) } else { score(c.delta_bic) };
             (
                 class.to_string(),
                 vec![
-                    format!("<l>{}", esc(&cause_words(&cause))),
+                    format!("<l>{}", esc(cause_words(c.cause))),
                     format!("<l>{}", esc(&c.extension)),
                     bic,
                     score(c.delta_aic),

@@ -1,33 +1,44 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use crate::diagnose::{DECISIVE, Diagnosis, Evidence};
+use crate::diagnose::{Cause, DECISIVE, Diagnosis, Evidence};
 use crate::fit::FitResult;
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 use serde_json::Value;
 use std::collections::BTreeMap;
 
-/// A cause in words, as the object of "the data need …" (by its snake_case name; a combination
-/// `a+b` joins its parts with "and").
-pub(crate) fn cause_words(cause: &str) -> String {
-    let one = |c: &str| match c {
-        "none" => "no extension".to_string(),
-        "evolution_law" => "a different evolution law".into(),
-        "second_state_variable" => "a second state variable".into(),
-        "cutoff_velocity" => "a cut-off velocity".into(),
-        "slip_trend" => "a slip trend".into(),
-        "stiffness" => "a different machine stiffness".into(),
-        other => other.replace('_', " "),
-    };
-    cause.split('+').map(one).collect::<Vec<_>>().join(" and ")
+/// A cause in words, as the object of "the data need …".
+pub(crate) fn cause_words(cause: Cause) -> &'static str {
+    match cause {
+        Cause::None => "no extension",
+        Cause::EvolutionLaw => "a different evolution law",
+        Cause::SecondStateVariable => "a second state variable",
+        Cause::CutoffVelocity => "a cut-off velocity",
+        Cause::SlipTrend => "a slip trend",
+        Cause::Stiffness => "a different machine stiffness",
+        Cause::NormalStressCoupling => "a coupling of state to normal-stress changes",
+    }
 }
+
+/// χ²/dof of the per-event Dc above which the events disagree on Dc, worth saying (a
+/// consistent Dc scatters with χ²/dof ≈ 1; 4 is well past chance for ≥ 3 events).
+const DC_SPREAD_CHI2: f64 = 4.0;
+/// d ln Dc / d ln(step or hold) worth naming beside the spread (5% per e-fold).
+const DC_SLOPE_NOTED: f64 = 0.05;
+/// |t| of the residuals' trend with ln V, or of their drift with displacement, worth naming
+/// as the reason (a trend at 3σ, or 2σ for the slip trend whose candidate is itself tested).
+const LN_V_TREND_T: f64 = 3.0;
+/// As [`LN_V_TREND_T`], for the residuals' drift with load-point displacement.
+const SLIP_TREND_T: f64 = 2.0;
+/// Worst segment's misfit over the median segment's worth naming as slow transients.
+const SEGMENT_RMS_NOTED: f64 = 2.0;
 
 /// `slip` → `Slip`, `slip+aging` → `Slip + Aging`, `kato-tullis` → `Kato–Tullis`.
 pub(crate) fn law_words(law: &str) -> String {
-    let one = |l: &str| match l {
-        "kato-tullis" => "Kato–Tullis".to_string(),
-        "prz" => "PRZ".into(),
-        l => {
+    // a user's own law (not in the registry) by its name, capitalised
+    let one = |l: &str| match l.parse::<rsf_laws::Law>() {
+        Ok(law) => law.words().to_string(),
+        Err(_) => {
             let mut c = l.chars();
             c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
         }
@@ -143,7 +154,7 @@ pub(crate) fn heldout_words(before: Option<f64>, after: Option<f64>) -> Option<S
 }
 
 /// What in the baseline residuals points at `cause`.
-fn because(cause: &str, d: &Diagnosis) -> String {
+fn because(cause: Cause, d: &Diagnosis) -> String {
     let e: &Evidence = &d.evidence;
     let generic = format!(
         "the baseline misfit is {}× the noise estimated from sample-to-sample differences, with residuals \
@@ -152,38 +163,37 @@ fn because(cause: &str, d: &Diagnosis) -> String {
         fmt_num(e.residual_lag1, 2)
     );
     let ln_v = match (e.residual_vs_ln_v, e.residual_vs_ln_v_t) {
-        (Some(s), Some(t)) if t.abs() > 3.0 => Some(format!(
+        (Some(s), Some(t)) if t.abs() > LN_V_TREND_T => Some(format!(
             "the baseline residuals trend with the logarithm of slip rate ({} per e-fold of V, t = {})",
             fmt_num(s, 2),
             fmt_num(t, 2)
         )),
         _ => None,
     };
-    let first = cause.split('+').next().unwrap_or(cause);
-    match first {
-        "evolution_law" => match e.dc_consistency_chi2 {
-            Some(chi2) if chi2 > 4.0 => {
+    match cause {
+        Cause::EvolutionLaw => match e.dc_consistency_chi2 {
+            Some(chi2) if chi2 > DC_SPREAD_CHI2 => {
                 let mut s = format!(
                     "the steps and holds refitted one at a time need different Dc (spread χ²/dof = {}",
                     fmt_num(chi2, 3)
                 );
-                if let Some(x) = e.dc_vs_ln_step.filter(|x| x.abs() > 0.05) {
+                if let Some(x) = e.dc_vs_ln_step.filter(|x| x.abs() > DC_SLOPE_NOTED) {
                     s += &format!("; ln Dc changes by {} per e-fold of step size", fmt_num(x, 2));
                 }
-                if let Some(x) = e.dc_vs_ln_hold.filter(|x| x.abs() > 0.05) {
+                if let Some(x) = e.dc_vs_ln_hold.filter(|x| x.abs() > DC_SLOPE_NOTED) {
                     s += &format!("; by {} per e-fold of hold time", fmt_num(x, 2));
                 }
                 s + ")"
             }
             _ => ln_v.unwrap_or(generic),
         },
-        "cutoff_velocity" => ln_v.unwrap_or(generic),
-        "slip_trend" if e.residual_trend_t.abs() > 2.0 => format!(
+        Cause::CutoffVelocity => ln_v.unwrap_or(generic),
+        Cause::SlipTrend if e.residual_trend_t.abs() > SLIP_TREND_T => format!(
             "the baseline residuals drift with load-point displacement ({} per µm, t = {})",
             fmt_num(e.residual_trend_per_um, 2),
             fmt_num(e.residual_trend_t, 2)
         ),
-        "stiffness" => match e.k_reload_slope {
+        Cause::Stiffness => match e.k_reload_slope {
             Some(k) => format!(
                 "the elastic reloading slopes give k ≈ {} against the nominal {}",
                 fmt_value(k, "/µm"),
@@ -191,52 +201,56 @@ fn because(cause: &str, d: &Diagnosis) -> String {
             ),
             None => generic,
         },
-        "second_state_variable" if e.segment_rms_ratio > 2.0 => format!(
+        Cause::SecondStateVariable if e.segment_rms_ratio > SEGMENT_RMS_NOTED => format!(
             "the baseline leaves slow transients: residuals correlated from sample to sample (lag-one ρ = {}) \
              and the worst segment's misfit {}× the median segment's",
             fmt_num(e.residual_lag1, 2),
             fmt_num(e.segment_rms_ratio, 2)
         ),
-        _ => generic,
+        Cause::SlipTrend | Cause::SecondStateVariable | Cause::None | Cause::NormalStressCoupling => generic,
     }
 }
 
 /// What the data need, with the effect's numbers: "a second state variable (b₂ = …, Dc₂ = … µm)".
 fn need(d: &Diagnosis) -> String {
-    let cause = d.cause.to_string();
     let f = d.extended.as_ref();
     let val = |k: &str| d.effect.get(k).map(|v| effect_value(k, v, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
-    match cause.as_str() {
-        "evolution_law" => match (d.effect.get("law").and_then(Value::as_str), val("b_other_fraction")) {
+    let plain = cause_words(d.cause).to_string();
+    match d.cause {
+        Cause::EvolutionLaw => match (d.effect.get("law").and_then(Value::as_str), val("b_other_fraction")) {
             (Some(l), Some(share)) if l.contains('+') => {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
             }
             (Some(l), _) => format!("the {} law instead of the {base_law} law", law_words(l)),
-            _ => cause_words(&cause),
+            _ => plain,
         },
-        "second_state_variable" => match (val("b2"), val("dc2")) {
+        Cause::SecondStateVariable => match (val("b2"), val("dc2")) {
             (Some(b), Some(dc)) => format!("a second state variable (b₂ = {b}, Dc₂ = {dc})"),
-            _ => cause_words(&cause),
+            _ => plain,
         },
-        "cutoff_velocity" => match val("vc") {
+        Cause::CutoffVelocity => match val("vc") {
             Some(v) => format!("a cut-off velocity: the Kato–Tullis law with Vc = {v}"),
-            None => cause_words(&cause),
+            None => plain,
         },
-        "slip_trend" => match val("g") {
+        Cause::SlipTrend => match val("g") {
             Some(g) => format!("a slip trend in friction, g = {g}"),
-            None => cause_words(&cause),
+            None => plain,
         },
-        "stiffness" => match val("k") {
+        Cause::Stiffness => match val("k") {
             Some(k) => {
                 format!(
                     "a machine stiffness of k = {k} instead of the nominal {}",
                     fmt_value(d.baseline.params.k, "/µm")
                 )
             }
-            None => cause_words(&cause),
+            None => plain,
         },
-        _ => cause_words(&cause),
+        Cause::NormalStressCoupling => match val("alpha") {
+            Some(a) => format!("a Linker–Dieterich coupling of state to normal-stress changes, α = {a}"),
+            None => plain,
+        },
+        Cause::None => plain,
     }
 }
 
@@ -244,7 +258,6 @@ fn need(d: &Diagnosis) -> String {
 /// what it gains, and how sure the diagnosis is; or, for `none`, that the baseline stands and
 /// what came closest.
 pub fn verdict(d: &Diagnosis) -> String {
-    let cause = d.cause.to_string();
     let n_eff = format!("n_eff = {} of {} samples", fmt_num(d.evidence.n_effective.round(), 6), d.baseline.n);
     let laws: Vec<String> = d.baseline.params.laws.iter().map(|l| law_words(l)).collect();
     let baseline = format!(
@@ -253,7 +266,7 @@ pub fn verdict(d: &Diagnosis) -> String {
         ["no", "one", "two", "three"].get(laws.len()).map_or(laws.len().to_string(), |w| w.to_string()),
         if laws.len() == 1 { "" } else { "s" }
     );
-    if cause == "none" || d.gain.is_none() {
+    if d.cause == Cause::None || d.gain.is_none() {
         let mut s = format!("The {baseline} explains the record; no extension earns its parameters");
         let best = d.candidates.iter().min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
         match best {
@@ -299,7 +312,7 @@ pub fn verdict(d: &Diagnosis) -> String {
     let mut s = format!(
         "The data need {}, because {}; it gains ΔBIC = {} (rms {}",
         need(d),
-        because(&cause, d),
+        because(d.cause, d),
         fmt_num(g.delta_bic, 3),
         fmt_pair(d.baseline.rms, rms_after, 3)
     );
@@ -328,7 +341,7 @@ pub fn verdict(d: &Diagnosis) -> String {
         Some((c, dbic)) => {
             let close =
                 if (dbic - g.delta_bic).abs() < 10.0 { " — close: the two are hard to tell apart" } else { "" };
-            s += &format!("; runner-up {} with ΔBIC = {}{close}", cause_words(&c.to_string()), fmt_num(*dbic, 3));
+            s += &format!("; runner-up {} with ΔBIC = {}{close}", cause_words(*c), fmt_num(*dbic, 3));
         }
         None => s += "; no runner-up",
     }
@@ -336,7 +349,7 @@ pub fn verdict(d: &Diagnosis) -> String {
     if let Some(sec) = &d.secondary {
         s += &format!(
             " On top of it the data need {}: a further ΔBIC = {} ({}).",
-            cause_words(&sec.cause.to_string()),
+            cause_words(sec.cause),
             fmt_num(sec.delta_bic, 3),
             sec.effect
                 .iter()

@@ -43,7 +43,7 @@ __all__ = [
 ]
 
 #: Built-in state laws by name.
-LAWS = ("aging", "slip", "kato-tullis", "prz", "nagata")
+LAWS = tuple(_rsf.LAW_NAMES)  # the built-in laws, from Rust's registry
 
 ThetaRate = Callable[[float, float, float, float, float], float]
 
