@@ -25,7 +25,7 @@ pub fn one_of(names: &[&str]) -> String {
 }
 
 /// Gives a fieldless enum its names: `TYPE, "what it is (for messages)", { Variant => "name" |
-/// "alias"…, … }`. See the [module](crate::vocabulary).
+/// "alias"…, … }`. See the [module](mod@crate::vocabulary).
 #[macro_export]
 macro_rules! vocabulary {
     ($ty:ident, $what:literal, { $($variant:ident => $name:literal $(| $alias:literal)*),+ $(,)? }) => {
