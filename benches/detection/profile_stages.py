@@ -1,5 +1,5 @@
 """Where a diagnosis's time goes, stage by stage (issue 22): runs `rsf diagnose` with
-RSF_DIAGNOSE_TIMING=1 on the records of a generated set whose row count lies in a range, and
+`rsf diagnose --stage-times` on the records of a generated set whose row count lies in a range, and
 prints a Markdown table of the stages (wall seconds; candidate fits and per-event refits as
 CPU seconds of their own jobs).
 
@@ -43,8 +43,8 @@ def main():
     rows = []
     for r in recs:
         t0 = time.perf_counter()
-        p = subprocess.run([a.rsf, "diagnose", str(a.dir / r["file"]), "--stiffness", str(r["nominal_stiffness"])],
-                           capture_output=True, text=True, env={"RSF_DIAGNOSE_TIMING": "1"})
+        p = subprocess.run([a.rsf, "diagnose", str(a.dir / r["file"]), "--stiffness", str(r["nominal_stiffness"]),
+                            "--stage-times"], capture_output=True, text=True)
         wall = time.perf_counter() - t0
         cause = p.stdout.split("\n", 1)[0].removeprefix("cause: ")
         rows.append((r["file"], r["n_samples"], r["cause"], cause, wall, stages(p.stderr)))

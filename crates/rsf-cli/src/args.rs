@@ -175,6 +175,9 @@ pub(crate) struct DiagnoseArgs {
     /// Skip the held-out test.
     #[arg(long)]
     pub(crate) no_heldout: bool,
+    /// Print each stage's and job's wall time on stderr (profiling; the result is the same).
+    #[arg(long)]
+    pub(crate) stage_times: bool,
     /// Seed of the null calibration's noise replicates. The diagnosis is a deterministic function
     /// of the record, the options and this seed: the same on any machine, at any load, with any
     /// number of threads.
@@ -304,8 +307,8 @@ pub(crate) struct FitArgs {
     #[arg(long, num_args = 0..=1, default_missing_value = "shared", value_parser = word::<AlphaFit>)]
     pub(crate) fit_alpha: Option<AlphaFit>,
     /// Constraint NAME=VALUE or NAME-NAME=VALUE (repeatable), e.g. a-b=-0.003, dc=10, vc1=0.01.
-    #[arg(long)]
-    pub(crate) fix: Vec<String>,
+    #[arg(long, value_parser = word::<rsf_fit::fit::Constraint>)]
+    pub(crate) fix: Vec<rsf_fit::fit::Constraint>,
     /// Initial value NAME=VALUE (repeatable), overriding the data-derived guess.
     #[arg(long)]
     pub(crate) initial: Vec<String>,

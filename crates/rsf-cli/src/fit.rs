@@ -123,8 +123,29 @@ pub fn run(a: &FitArgs) -> Result<()> {
     }
     let mcmc = match a.mcmc {
         Some(n) => {
-            let m = rsf_fit::mcmc::McmcOptions { samples: n, chains: a.chains, seed: a.seed, ..Default::default() };
-            Some(rsf_fit::mcmc::run(&prep, &opts, &res, &m).map_err(anyhow::Error::msg)?)
+            // the bar is the CLI's; the library only reports samples drawn (hidden off a terminal)
+            let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("MCMC {bar:40} {pos}/{len} samples, {per_sec}, eta {eta}")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            let progress: rsf_fit::progress::Progress = {
+                let bar = bar.clone();
+                std::sync::Arc::new(move |done, total, _: &str| {
+                    bar.set_length(total as u64);
+                    bar.set_position(done as u64);
+                })
+            };
+            let m = rsf_fit::mcmc::McmcOptions {
+                samples: n,
+                chains: a.chains,
+                seed: a.seed,
+                progress: Some(progress),
+                ..Default::default()
+            };
+            let r = rsf_fit::mcmc::run(&prep, &opts, &res, &m).map_err(anyhow::Error::msg);
+            bar.finish_and_clear();
+            Some(r?)
         }
         None => None,
     };
@@ -299,6 +320,7 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
         &segs,
         &rsf_fit::diagnose::DiagnoseOptions {
             heldout: !a.no_heldout,
+            stage_times: a.stage_times,
             progress: Some(progress),
             seed: a.seed,
             threads: a.threads,

@@ -222,7 +222,10 @@ fn fit_errors_are_named() {
         String::from_utf8_lossy(&out.stderr).to_string()
     };
     assert!(run(&["--fix", "a-q=1"]).contains("unknown parameter `q`"));
-    assert!(run(&["--fix", "a-b=x"]).contains("`x` is not a number"));
+    // a constraint that does not parse is refused with the arguments (exit 2), before any work
+    let out = rsf().args(fit_args()).args(["--fix", "a-b=x"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("`x` is not a number"));
     let args: Vec<String> = fit_args().into_iter().map(|a| if a == "slip" { "dieterich".into() } else { a }).collect();
     let out = rsf().args(args).output().unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown law `dieterich`"));

@@ -49,10 +49,11 @@ fn main() {
             let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.005);
             fit.loading = LoadingMode::Protocol;
             let t = Instant::now();
-            let d = diagnose(&rec, &segs, &DiagnoseOptions::new(fit)).unwrap();
+            let stage_times = std::env::args().any(|a| a == "--stage-times");
+            let d = diagnose(&rec, &segs, &DiagnoseOptions { stage_times, ..DiagnoseOptions::new(fit) }).unwrap();
             times.push(t.elapsed().as_secs_f64());
             cause = d.cause.to_string();
-            if std::env::var_os("RSF_DIAGNOSE_TIMING").is_some() {
+            if stage_times {
                 for c in &d.candidates {
                     if let Some(f) = &c.fit {
                         eprintln!(

@@ -138,7 +138,7 @@ fn main() {
         let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
         let p = prepare(&rec, &segs, &opts).unwrap();
         let r = fit(&p, &opts).unwrap();
-        let m = McmcOptions { samples: 8000, chains: 2, seed: 1, progress: false, ..Default::default() };
+        let m = McmcOptions { samples: 8000, chains: 2, seed: 1, ..Default::default() };
         let mc = mcmc::run(&p, &opts, &r, &m).unwrap();
         println!(
             "| MCMC, 2 chains (2 cores), rtol {:.0e} | {label}, 10 segments | {:.2} s | **{:.0} forward simulations/s**, acceptance {:.2}, R-hat(a) {:.3} |",

@@ -51,6 +51,7 @@ pub mod diagnose;
 pub mod fit;
 pub mod lm;
 pub mod mcmc;
+pub mod progress;
 pub mod report;
 pub mod segment;
 pub mod sens;

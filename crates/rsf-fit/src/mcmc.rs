@@ -13,7 +13,7 @@
 //! effective sample size (Geyer's initial positive sequence), per parameter.
 
 use crate::fit::{FitOptions, FitResult, Prepared, model_curve, parameter_map};
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::progress::Progress;
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// MCMC settings.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct McmcOptions {
     /// Total samples over all chains (after which burn-in is discarded).
     pub samples: usize,
@@ -35,13 +35,29 @@ pub struct McmcOptions {
     pub burn_fraction: f64,
     /// Integrator tolerance for the forward model.
     pub rtol: f64,
-    /// Show a progress bar on stderr (hidden when stderr is not a terminal).
-    pub progress: bool,
+    /// Told the samples drawn so far over all chains (every [`PROGRESS_EVERY`] per chain).
+    pub progress: Option<Progress>,
 }
+
+/// A chain reports progress every this many steps.
+pub const PROGRESS_EVERY: usize = 50;
 
 impl Default for McmcOptions {
     fn default() -> Self {
-        Self { samples: 20000, chains: 4, seed: 1, burn_fraction: 0.5, rtol: 1e-6, progress: true }
+        Self { samples: 20000, chains: 4, seed: 1, burn_fraction: 0.5, rtol: 1e-6, progress: None }
+    }
+}
+
+impl std::fmt::Debug for McmcOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("McmcOptions")
+            .field("samples", &self.samples)
+            .field("chains", &self.chains)
+            .field("seed", &self.seed)
+            .field("burn_fraction", &self.burn_fraction)
+            .field("rtol", &self.rtol)
+            .field("progress", &self.progress.is_some())
+            .finish()
     }
 }
 
@@ -128,27 +144,20 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
     }
     let chains = m.chains.max(1);
     let steps = (m.samples / chains).max(200);
-    let bar = if m.progress {
-        let b = ProgressBar::with_draw_target(Some((steps * chains) as u64), indicatif::ProgressDrawTarget::stderr());
-        b.set_style(
-            ProgressStyle::with_template("MCMC {bar:40} {pos}/{len} samples, {per_sec}, eta {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    };
     let start = Instant::now();
-    let results: Vec<(Vec<Vec<f64>>, usize)> = std::thread::scope(|sc| {
-        let handles: Vec<_> = (0..chains)
-            .map(|c| {
-                let (x0, c0, bar, log_post) = (&x0, &c0, &bar, &log_post);
-                sc.spawn(move || chain(c, steps, x0, c0, m.seed, log_post, bar))
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().expect("chain thread panicked")).collect()
-    });
-    bar.finish_and_clear();
+    // the samples drawn over all chains, for the progress observer
+    let drawn = std::sync::atomic::AtomicUsize::new(0);
+    let total = steps * chains;
+    let tick = || {
+        let done = drawn.fetch_add(PROGRESS_EVERY, std::sync::atomic::Ordering::Relaxed) + PROGRESS_EVERY;
+        if let Some(p) = &m.progress {
+            p(done.min(total), total, "MCMC samples");
+        }
+    };
+    // one chain per thread, each with its own seeded stream: the same draws on any schedule
+    let ids: Vec<usize> = (0..chains).collect();
+    let results: Vec<(Vec<Vec<f64>>, usize)> =
+        crate::diagnose::par_map(&ids, chains, |&c| chain(c, steps, &x0, &c0, m.seed, &log_post, &tick));
     if opts.cancelled() {
         return Err("cancelled".into());
     }
@@ -204,7 +213,7 @@ fn chain(
     c0: &DMatrix<f64>,
     seed: u64,
     log_post: &(dyn Fn(&[f64]) -> f64 + Sync),
-    bar: &ProgressBar,
+    tick: &(dyn Fn() + Sync),
 ) -> (Vec<Vec<f64>>, usize) {
     let d = x0.len();
     let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(c as u64 + 1));
@@ -255,8 +264,8 @@ fn chain(
                 l = nl;
             }
         }
-        if i % 50 == 49 {
-            bar.inc(50);
+        if i % PROGRESS_EVERY == PROGRESS_EVERY - 1 {
+            tick();
         }
     }
     (out, accepted)

@@ -23,7 +23,7 @@ fn intervals_cover_the_truth_at_their_nominal_rate() {
         opts.loading = LoadingMode::Protocol;
         let p = prepare(&rec, &segs, &opts).unwrap();
         let r = fit(&p, &opts).unwrap();
-        let m = McmcOptions { samples: 6000, chains: 2, seed, progress: false, ..Default::default() };
+        let m = McmcOptions { samples: 6000, chains: 2, seed, ..Default::default() };
         let mc = mcmc::run(&p, &opts, &r, &m).unwrap();
         for (name, t) in [("a", truth.a), ("b1", 0.013), ("dc1", 8.0)] {
             let ci = r.ci95[name];

@@ -159,7 +159,7 @@ pub fn fit_json(
     opts.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     opts.alpha = alpha_fit(fit_alpha)?;
     opts.fit_slip_trend = fit_slip_trend;
-    opts.fix = fix;
+    opts.fix = fix.iter().map(|c| word::<rsf_fit::fit::Constraint>(c)).collect::<PyResult<_>>()?;
     opts.initial = initial;
     if !(rtol > 0.0 && rtol < 1e-2) {
         return Err(value_error(format!("rtol {rtol} must be in (0, 1e-2)")));
@@ -187,7 +187,15 @@ pub fn fit_json(
                     samples: n,
                     chains: chains.max(1),
                     seed,
-                    progress,
+                    progress: progress.then(|| -> rsf_fit::progress::Progress {
+                        // a line per tenth of the draws
+                        Arc::new(|done, total, what: &str| {
+                            let step = (total / 10).max(rsf_fit::mcmc::PROGRESS_EVERY);
+                            if done % step < rsf_fit::mcmc::PROGRESS_EVERY {
+                                eprintln!("rsf.fit: {done}/{total} {what}");
+                            }
+                        })
+                    }),
                     ..rsf_fit::mcmc::McmcOptions::default()
                 };
                 Some(rsf_fit::mcmc::run(&prep, &opts, &res, &m)?)

@@ -433,7 +433,8 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     };
 
     // ---- solver
-    let (mut method_name, mut rtol, mut atol, mut vmax) = (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, 1e9);
+    let (mut method_name, mut rtol, mut atol, mut vmax) =
+        (DEFAULT_METHOD.to_string(), DEFAULT_RTOL, DEFAULT_ATOL, crate::solve::MAX_SLIP_RATE);
     let mut method_span = None;
     if let Some(s) = &raw.solver {
         if let Some(m) = &s.method {

@@ -65,6 +65,10 @@ pub enum OutputTimes {
     Times(Vec<f64>),
 }
 
+/// The default slip rate beyond which a run stops with a blow-up error, µm/s (1 km/s: no
+/// quasi-static lab model means anything there).
+pub const MAX_SLIP_RATE: f64 = 1e9;
+
 /// A forward problem: model, loading, initial steady state and output times. It holds no
 /// solution state, so solving it twice gives the same answer.
 #[derive(Clone, Debug)]
@@ -80,8 +84,8 @@ pub struct Problem {
     pub initial_theta: Option<Vec<f64>>,
     /// Output sampling.
     pub output: OutputTimes,
-    /// Slip rate (µm/s) beyond which the run stops with a blow-up error. Default 1e9 µm/s
-    /// (1 km/s: no quasi-static lab model means anything there).
+    /// Slip rate (µm/s) beyond which the run stops with a blow-up error. Default
+    /// [`MAX_SLIP_RATE`].
     pub max_slip_rate: f64,
     /// What to take from every integrator step besides the output rows: the peak slip rate
     /// between rows and an event catalogue ([`WatchOptions`]); off by default.
@@ -100,7 +104,7 @@ impl Problem {
             v_init,
             initial_theta: None,
             output: OutputTimes::Every(dt),
-            max_slip_rate: 1e9,
+            max_slip_rate: MAX_SLIP_RATE,
             watch: WatchOptions::default(),
             normal_stress: None,
         }
@@ -321,10 +325,12 @@ pub fn output_times(problem: &Problem, pieces: &[Piece]) -> Result<Vec<f64>, Sol
     }
 }
 
-fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
+/// Every check a solve makes before it integrates — model, tolerances, initial slip rate,
+/// loading, output times, imposed-velocity restrictions, the blow-up limit — for [`solve`] and
+/// [`solve_friction`] alike; returns the pieces and output times.
+fn checked(problem: &Problem, tol: &Tolerances) -> Result<(Vec<Piece>, Vec<f64>), SolveError> {
     let model = &problem.model;
     model.validate()?;
-    let tol = alg.tolerances();
     tol.check().map_err(SolveError::Input)?;
     if !(problem.v_init > 0.0 && problem.v_init.is_finite()) {
         return Err(SolveError::Input(format!("v_init = {} must be positive and finite (µm/s)", problem.v_init)));
@@ -357,6 +363,13 @@ fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Resul
             problem.max_slip_rate, problem.v_init
         )));
     }
+    Ok((pieces, t_out))
+}
+
+fn solve_dim<const D: usize, I: Integrator>(problem: &Problem, alg: &I) -> Result<Solution, SolveError> {
+    let model = &problem.model;
+    let tol = alg.tolerances();
+    let (pieces, t_out) = checked(problem, &tol)?;
 
     let n = D - 2;
     let rows = t_out.len();
@@ -548,9 +561,7 @@ fn friction_dim<const D: usize, I: Integrator>(
     alg: &I,
 ) -> Result<(Vec<f64>, StepStats), SolveError> {
     let model = &problem.model;
-    model.validate()?;
-    let pieces = problem.pieces()?;
-    let t_out = output_times(problem, &pieces)?;
+    let (pieces, t_out) = checked(problem, &alg.tolerances())?;
     let y = SVector::<f64, D>::from_column_slice(&initial_state(problem)?);
     // τ/σ = f + ηV + gδ with the logarithms of V0 and s_i Dc_i taken once (SpringSlider::stress)
     let friction = SpringSlider::new(model, 1.0);

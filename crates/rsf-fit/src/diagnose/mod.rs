@@ -83,7 +83,7 @@ use crate::fit::FitOptions;
 pub const DECISIVE: f64 = -10.0;
 
 /// Progress callback: (jobs done, jobs in all, what finished).
-pub type Progress = std::sync::Arc<dyn Fn(usize, usize, &str) + Send + Sync>;
+pub use crate::progress::Progress;
 
 /// Diagnosis settings.
 #[derive(Clone)]
@@ -113,6 +113,9 @@ pub struct DiagnoseOptions {
     pub seed: u64,
     /// Called as fits finish.
     pub progress: Option<Progress>,
+    /// Print each stage's and job's wall time on stderr (profiling only; `rsf diagnose
+    /// --stage-times`). Results do not depend on it.
+    pub stage_times: bool,
 }
 
 impl DiagnoseOptions {
@@ -128,8 +131,9 @@ impl DiagnoseOptions {
             null_replicates: NULL_REPLICATES,
             false_alarm_level: FALSE_ALARM_LEVEL,
             seed: 1,
-            timing_mask: std::env::var_os("RSF_NO_TIMING_MASK").is_none(),
+            timing_mask: true,
             progress: None,
+            stage_times: false,
         }
     }
 }

@@ -35,6 +35,26 @@ const HELDOUT_MIN_STEPS: u64 = 1_000_000;
 /// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
 /// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
 const CANDIDATE_STARTS: usize = 2;
+/// A free stiffness fitted from the nominal k that stays above this fraction of it has not
+/// moved off the nominal (a stiff nominal leaves no gradient in k): softer starts are tried.
+const K_STUCK_FRACTION: f64 = 0.8;
+/// The softer starting stiffnesses, as divisors of the nominal: series compliance of gouge and
+/// assembly only ever softens a machine, by up to an order of magnitude in lab rigs.
+const K_SOFTER_STARTS: [f64; 2] = [4.0, 16.0];
+/// The reload-slope k is a further start when it differs from the nominal by more than this
+/// in ln k (22%): closer, the nominal start already covers it.
+const K_RELOAD_LN_DIFF: f64 = 0.2;
+/// Slip-rate range of the Vc profile when the baseline gives none, µm/s (lab rates).
+const DEFAULT_V_RANGE: (f64, f64) = (1e-3, 1e3);
+/// Each candidate fit gets this share of the baseline's work budget: a candidate the data
+/// cannot constrain (b2 running to its bound) must not dominate the work.
+const CANDIDATE_BUDGET_SHARE: f64 = 1.0 / 3.0;
+/// The null calibration's sequential test: after (a share of the replicates), stop when the
+/// false-alarm probability is below `below`·level or above `above`·level — so far from the
+/// level either way that more replicates cannot change the verdict.
+const NULL_STAGES: [(f64, f64, f64); 2] = [(0.25, 1e-4, 100.0), (0.5, 1e-2, 10.0)];
+/// The first stage of the sequential test runs at least this many replicates.
+const NULL_MIN_FIRST_STAGE: usize = 4;
 
 /// At most this many decisive candidates are put to the null calibration (each costs
 /// `null_replicates` pairs of refits); the rest keep their place in the table.
@@ -73,14 +93,14 @@ impl Ctx<'_> {
         let first = fit_from(pc, o, from, self.v_range, threads);
         // only when the fit from the nominal k did not soften the machine: then the nominal may
         // sit where k has no gradient
-        let stuck = first.as_ref().is_none_or(|f| f.params.k > 0.8 * from.k);
+        let stuck = first.as_ref().is_none_or(|f| f.params.k > K_STUCK_FRACTION * from.k);
         // (a start that already has a fitted k, e.g. a combination's, is not at the nominal)
         let at_nominal = from.k == self.base_opts.stiffness;
         if !(o.fit_stiffness && !self.base_opts.fit_stiffness && stuck && at_nominal) {
             return first;
         }
-        let mut ks = vec![from.k / 4.0, from.k / 16.0];
-        ks.extend(self.ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > 0.2));
+        let mut ks: Vec<f64> = K_SOFTER_STARTS.iter().map(|d| from.k / d).collect();
+        ks.extend(self.ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > K_RELOAD_LN_DIFF));
         ks.into_iter()
             .filter_map(|k| fit_from(pc, o, &Params { k, ..from.clone() }, self.v_range, threads))
             .chain(first)
@@ -98,7 +118,7 @@ impl Ctx<'_> {
             let other = other_law(&self.base_law);
             let mut om = self.cand_opts.clone();
             om.laws.push(builtin(other));
-            om.fix.push("dc1-dc2=0".into());
+            om.fix.push(crate::fit::Constraint::difference("dc1", "dc2", 0.0));
             tries.push((format!("a mixture: {} and {other} states sharing Dc", self.base_law), om));
         }
         tries
@@ -229,13 +249,13 @@ impl Ctx<'_> {
         };
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        // a sequential test: a quarter of the replicates, then half, then all, stopping when the
-        // verdict is so far from the level either way that more replicates cannot change it —
-        // a factor 1e4 below or 100 above after a quarter, 100 below or 10 above after half.
+        // a sequential test (NULL_STAGES): a quarter of the replicates, then half, then all.
         // The same seeds in the same order keep the result deterministic.
         let (level, n) = (self.opts.false_alarm_level, seeds.len());
         let mut gains = vec![];
-        for (upto, below, above) in [(n.div_ceil(4).max(4), 1e-4, 100.0), (n.div_ceil(2), 1e-2, 10.0)] {
+        for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
+            let upto = (n as f64 * share).ceil() as usize;
+            let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
             if upto >= n || upto <= gains.len() {
                 continue;
             }
@@ -322,8 +342,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         .collect();
     let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
     let (rec, segs) = (&clean, &segs[..]);
-    // RSF_DIAGNOSE_TIMING=1: each stage's and job's wall time on stderr (profiling only)
-    let timing_log = std::env::var_os("RSF_DIAGNOSE_TIMING").is_some();
+    // each stage's and job's wall time on stderr (profiling only)
+    let timing_log = opts.stage_times;
     let clock = std::time::Instant::now();
     let lap = |what: &str| {
         if timing_log {
@@ -361,18 +381,17 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         None
     };
     lap("held-out baseline");
-    let v_range = slip_rate_range(&base).unwrap_or((1e-3, 1e3));
+    let v_range = slip_rate_range(&base).unwrap_or(DEFAULT_V_RANGE);
     let ctx = Ctx {
         rec,
         segs,
         opts,
-        // a candidate the data cannot constrain (e.g. b2 running to its bound) must not
-        // dominate the work: each candidate fit gets a third of the baseline budget
-        // and, starting from the baseline optimum, fewer starts: the scaled restarts of a cold
+        // each candidate fit gets CANDIDATE_BUDGET_SHARE of the baseline budget and, starting
+        // from the baseline optimum, fewer starts: the scaled restarts of a cold
         // fit explore what the baseline's own multi-start already explored (a second state
         // keeps its two extra starts, b2 of either sign)
         cand_opts: FitOptions {
-            budget: base_opts.budget.scaled(1.0 / 3.0),
+            budget: base_opts.budget.scaled(CANDIDATE_BUDGET_SHARE),
             starts: base_opts.starts.min(CANDIDATE_STARTS),
             ..base_opts.clone()
         },

@@ -73,7 +73,7 @@ fn profile_vc(p: &Prepared, o: &FitOptions, (vlo, vhi): (f64, f64), threads: usi
     let point_budget = o.budget.scaled(1.0 / (3.0 * grid.len() as f64));
     let profile = par_map(&grid, threads, |&vc| {
         let mut oc = o.clone();
-        oc.fix.push(format!("vc1={vc:e}"));
+        oc.fix.push(crate::fit::Constraint::fixed("vc1", vc));
         oc.starts = 1;
         oc.max_iter = VC_PROFILE_ITERATIONS;
         oc.budget = point_budget;

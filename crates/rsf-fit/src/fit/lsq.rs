@@ -2,7 +2,7 @@
 
 use super::covariance::{covariance, intervals};
 use super::forward::{evaluate, model_slip_rate};
-use super::params::{Constraint, within_bounds};
+use super::params::within_bounds;
 use super::{
     AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamName, Params, Prepared, SegmentRow, parameter_map,
 };
@@ -62,7 +62,7 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         let mut o1 = opts.clone();
         o1.laws.truncate(1);
         // constraints and starting values of the first state and the globals only
-        o1.fix.retain(|c| Constraint::parse(c).is_ok_and(|c| c.max_state() <= 1));
+        o1.fix.retain(|c| c.max_state() <= 1);
         o1.initial.retain(|(n, _)| ParamName::parse(n).is_none_or(|p| p.state().is_none_or(|i| i <= 1)));
         // a caller that gives the first state's start (diagnosis: the baseline optimum) spares
         // the nested one-state fit

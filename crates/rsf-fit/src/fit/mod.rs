@@ -34,6 +34,6 @@ pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
     NormalStressMode, Weighting,
 };
-pub use params::{ParamMap, ParamName, parameter_map};
+pub use params::{Constraint, ParamMap, ParamName, parameter_map};
 pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};
 pub use result::{Curve, Estimate, FitResult, Params, SegmentRow};

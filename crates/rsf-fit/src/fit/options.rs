@@ -79,7 +79,7 @@ pub struct FitOptions {
     /// Fit a slip trend g (friction per µm of slip) as well.
     pub fit_slip_trend: bool,
     /// Constraints, e.g. `a-b=-0.003`, `dc=10`.
-    pub fix: Vec<String>,
+    pub fix: Vec<super::Constraint>,
     /// A friction offset per segment.
     pub mu0_per_segment: bool,
     /// Use only the first `window_um` µm of load-point travel of each segment (and the last of

@@ -67,9 +67,12 @@ impl ParamName {
     }
 }
 
-/// A linear constraint as written: `X=c`, `X-Y=c` or `X+Y=c`.
+/// A linear constraint as written: `X=c`, `X-Y=c` or `X+Y=c`, parsed once where it is given
+/// (`--fix`, Python's `fix`, the diagnosis's own ties).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Constraint {
+    /// The constraint as written (shown in results).
+    pub text: String,
     /// The first name.
     pub x: String,
     /// The second name and the sign it enters with (`-` or `+`), when there is one.
@@ -81,18 +84,15 @@ pub struct Constraint {
 impl Constraint {
     /// Parses `c`; the error names what is wrong.
     pub fn parse(c: &str) -> Result<Self, FitError> {
-        let (lhs, rhs) = c
-            .split_once('=')
-            .ok_or_else(|| FitError::Setup(format!("constraint `{c}`: expected NAME=VALUE or NAME-NAME=VALUE")))?;
-        let value: f64 =
-            rhs.trim().parse().map_err(|_| FitError::Setup(format!("constraint `{c}`: `{rhs}` is not a number")))?;
-        let lhs = lhs.trim();
-        Ok(match lhs.char_indices().skip(1).find(|(_, ch)| *ch == '-' || *ch == '+') {
-            None => Self { x: lhs.to_string(), y: None, value },
-            Some((pos, op)) => {
-                Self { x: lhs[..pos].trim().to_string(), y: Some((op, lhs[pos + 1..].trim().to_string())), value }
-            }
-        })
+        c.parse().map_err(FitError::Setup)
+    }
+    /// `name = value`.
+    pub fn fixed(name: &str, value: f64) -> Self {
+        Self { text: format!("{name}={value:e}"), x: name.into(), y: None, value }
+    }
+    /// `x − y = value`.
+    pub fn difference(x: &str, y: &str, value: f64) -> Self {
+        Self { text: format!("{x}-{y}={value}"), x: x.into(), y: Some(('-', y.into())), value }
     }
     /// The highest state variable (1-based) the constraint names, 0 for none.
     pub fn max_state(&self) -> usize {
@@ -101,6 +101,29 @@ impl Constraint {
             .filter_map(|n| ParamName::parse(n).and_then(|p| p.state()))
             .max()
             .unwrap_or(0)
+    }
+}
+
+impl std::str::FromStr for Constraint {
+    type Err = String;
+    fn from_str(c: &str) -> Result<Self, String> {
+        let (lhs, rhs) =
+            c.split_once('=').ok_or_else(|| format!("constraint `{c}`: expected NAME=VALUE or NAME-NAME=VALUE"))?;
+        let value: f64 = rhs.trim().parse().map_err(|_| format!("constraint `{c}`: `{rhs}` is not a number"))?;
+        let lhs = lhs.trim();
+        let text = c.to_string();
+        Ok(match lhs.char_indices().skip(1).find(|(_, ch)| *ch == '-' || *ch == '+') {
+            None => Self { text, x: lhs.to_string(), y: None, value },
+            Some((pos, op)) => {
+                Self { text, x: lhs[..pos].trim().to_string(), y: Some((op, lhs[pos + 1..].trim().to_string())), value }
+            }
+        })
+    }
+}
+
+impl std::fmt::Display for Constraint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
     }
 }
 
@@ -296,8 +319,8 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
     }
     // constraints
     let mut constraints = vec![];
-    for c in &opts.fix {
-        let parsed = Constraint::parse(c)?;
+    for parsed in &opts.fix {
+        let c = &parsed.text;
         match &parsed.y {
             None => {
                 let i = index(&parsed.x)?;
