@@ -303,6 +303,18 @@ impl Law {
         }
     }
 
+    /// How a fit treats one of the law's own parameters: its physical range and whether it is
+    /// fitted as a logarithm (`None` for a name the law does not have).
+    pub fn parameter_range(self, parameter: &str) -> Option<ParameterRange> {
+        match (self, parameter) {
+            // µm/s: from far below any lab slip rate to far above; spans decades, so ln Vc
+            (Law::KatoTullis, "vc") => Some(ParameterRange { lo: 1e-9, hi: 1e6, log: true }),
+            // dimensionless, of either sign in a fit's trial steps
+            (Law::Nagata, "c") => Some(ParameterRange { lo: -1e9, hi: 1e9, log: false }),
+            (Law::KatoTullis | Law::Nagata | Law::Aging | Law::Slip | Law::Prz, _) => None,
+        }
+    }
+
     /// The law's id in the C ABI (`RsfStateParams.law`).
     pub fn c_id(self) -> i32 {
         match self {
@@ -338,6 +350,17 @@ impl Law {
             Err(e) => unreachable!("every parameter of a built-in law has a starting value: {e}"),
         }
     }
+}
+
+/// A law parameter's physical range and fitting scale ([`Law::parameter_range`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParameterRange {
+    /// Lowest physical value.
+    pub lo: f64,
+    /// Highest physical value.
+    pub hi: f64,
+    /// Fitted as a logarithm (a positive quantity spanning decades).
+    pub log: bool,
 }
 
 /// A built-in law by name, with its own parameters looked up by `param` (e.g. `"vc"`).

@@ -67,6 +67,48 @@ impl ParamName {
     }
 }
 
+/// How a full-vector entry is fitted: as a logarithm or not, and the physical range outside
+/// which a trial point is rejected (so LM cannot wander where the model means nothing and
+/// integrates slowly).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamSpec {
+    /// Fitted as a logarithm.
+    pub log: bool,
+    /// Lowest physical value.
+    pub lo: f64,
+    /// Highest physical value.
+    pub hi: f64,
+}
+
+impl ParamName {
+    /// Scale and range of this parameter; a law's own parameter from the law registry
+    /// ([`rsf_laws::Law::parameter_range`]), a user's law's as linear and unbounded.
+    pub fn spec(&self, laws: &[std::sync::Arc<dyn rsf_core::DynStateLaw>]) -> ParamSpec {
+        let (log, lo, hi) = match self {
+            Self::Mu0 => (false, -10.0, 10.0),
+            Self::A => (true, 1e-7, 1.0),
+            Self::K => (true, 1e-9, 1e4),
+            Self::G => (false, -1e-2, 1e-2),
+            Self::B(_) => (false, -1.0, 1.0),
+            // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
+            // record of 1–1000 Hz can resolve
+            Self::Dc(_) => (true, 1e-2, 1e7),
+            // Linker–Dieterich α: published values 0–0.6; beyond 5 the coupling would dominate
+            // every other term
+            Self::Alpha(_) => (false, 0.0, 5.0),
+            Self::Law(name, i) => {
+                let builtin = laws.get(i - 1).and_then(|l| l.name().parse::<rsf_laws::Law>().ok());
+                match builtin.and_then(|l| l.parameter_range(name)) {
+                    Some(r) => (r.log, r.lo, r.hi),
+                    None => (false, -1e9, 1e9),
+                }
+            }
+            Self::Mu0Seg(_) => (false, f64::NEG_INFINITY, f64::INFINITY),
+        };
+        ParamSpec { log, lo, hi }
+    }
+}
+
 /// A linear constraint as written: `X=c`, `X-Y=c` or `X+Y=c`, parsed once where it is given
 /// (`--fix`, Python's `fix`, the diagnosis's own ties).
 #[derive(Clone, Debug, PartialEq)]
@@ -152,6 +194,8 @@ pub struct ParamMap {
     pub(super) base: Vec<f64>,
     pub(super) free: Vec<usize>,
     pub(super) constraints: Vec<String>,
+    /// Scale and range of each full-vector entry.
+    pub(super) specs: Vec<ParamSpec>,
 }
 
 fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
@@ -256,13 +300,15 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         base[off + 3] = if opts.alpha == AlphaFit::Fixed { 0.0 } else { ALPHA_START };
     }
     let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
-    let log_param = |i: usize| {
-        i == 1
-            || i == 2
-            || (i >= N_GLOBAL
-                && i < np
-                && ((i - N_GLOBAL) % PER_STATE == 1 || ((i - N_GLOBAL) % PER_STATE == 2 && names[i].starts_with("vc"))))
-    };
+    let specs: Vec<ParamSpec> = names
+        .iter()
+        .map(|n| {
+            ParamName::parse(n)
+                .map(|p| p.spec(&opts.laws))
+                .ok_or_else(|| FitError::Setup(format!("internal: parameter name `{n}` does not parse")))
+        })
+        .collect::<Result<_, _>>()?;
+    let log_param = |i: usize| i < np && specs[i].log;
     let mut free_idx = vec![0usize, 1];
     if opts.fit_stiffness {
         free_idx.push(2);
@@ -349,7 +395,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         slots[i] = Slot::Free { k, log };
     }
     // derived values follow their sources at the start
-    let map = ParamMap { n_states: n, names, slots, base, free: free_idx, constraints };
+    let map = ParamMap { n_states: n, names, slots, base, free: free_idx, constraints, specs };
     let theta = map.theta_of(&map.base);
     let base = map.full(&theta);
     Ok(ParamMap { base, ..map })
@@ -360,23 +406,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
 pub(super) fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
     let np = n_params(map.n_states);
     for (i, &v) in full.iter().enumerate().take(np) {
-        let (lo, hi) = match i {
-            0 => (-10.0, 10.0),
-            1 => (1e-7, 1.0),
-            2 => (1e-9, 1e4),
-            3 => (-1e-2, 1e-2),
-            _ => match (i - N_GLOBAL) % PER_STATE {
-                2 if map.names[i].starts_with("vc") => (1e-9, 1e6),
-                // Linker–Dieterich α: published values 0–0.6; beyond 5 the coupling would
-                // dominate every other term
-                3 => (0.0, 5.0),
-                0 => (-1.0, 1.0),
-                // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
-                // record of 1–1000 Hz can resolve
-                1 => (1e-2, 1e7),
-                _ => (-1e9, 1e9),
-            },
-        };
+        let ParamSpec { lo, hi, .. } = map.specs[i];
         if !(v >= lo && v <= hi) {
             return Err(format!("`{}` = {v:e} is outside its physical range [{lo:e}, {hi:e}]", map.names[i]));
         }
