@@ -53,7 +53,8 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     }
     for i in &a.initial {
         let (n, v) = i.split_once('=').with_context(|| format!("--initial `{i}`: expected NAME=VALUE"))?;
-        o.initial.push((n.trim().into(), v.trim().parse().with_context(|| format!("--initial `{i}`"))?));
+        let name = n.trim().parse::<rsf_fit::fit::ParamName>().map_err(|e| anyhow::anyhow!("--initial `{i}`: {e}"))?;
+        o.initial.push((name, v.trim().parse().with_context(|| format!("--initial `{i}`"))?));
     }
     Ok(o)
 }

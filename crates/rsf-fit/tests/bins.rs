@@ -39,7 +39,8 @@ fn compare(loading: LoadingMode, noise: Noise) {
     println!("{loading:?} {noise:?}: {bins} bins of {} samples", f.n);
     for (name, se) in &f.stderr {
         let (x, y) = (f.params.as_initial(), b.params.as_initial());
-        let get = |v: &[(String, f64)]| v.iter().find(|(n, _)| n == name).map(|p| p.1).unwrap();
+        let get =
+            |v: &[(rsf_fit::fit::ParamName, f64)]| v.iter().find(|(n, _)| n.text() == *name).map(|p| p.1).unwrap();
         let d = (get(&y) - get(&x)).abs() / se;
         let se_ratio = b.stderr[name] / se;
         println!(

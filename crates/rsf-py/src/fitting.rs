@@ -160,7 +160,8 @@ pub fn fit_json(
     opts.alpha = alpha_fit(fit_alpha)?;
     opts.fit_slip_trend = fit_slip_trend;
     opts.fix = fix.iter().map(|c| word::<rsf_fit::fit::Constraint>(c)).collect::<PyResult<_>>()?;
-    opts.initial = initial;
+    opts.initial =
+        initial.into_iter().map(|(n, v)| Ok((word::<rsf_fit::fit::ParamName>(&n)?, v))).collect::<PyResult<_>>()?;
     if !(rtol > 0.0 && rtol < 1e-2) {
         return Err(value_error(format!("rtol {rtol} must be in (0, 1e-2)")));
     }

@@ -5,7 +5,7 @@ use super::manifest::{Entry, RecordOptions};
 use super::row::{Param, Row, Status};
 use crate::data::{DispUnit, InvalidRows, ReadOptions, Record, TimeUnit, read_record};
 use crate::diagnose::{Baseline, DiagnoseOptions, Diagnosis, diagnose};
-use crate::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
+use crate::fit::{FitOptions, FitResult, LoadingMode, ParamName, fit, prepare};
 use crate::segment::{Segment, SegmentKind, SegmentOptions, detect};
 use serde::{Deserialize, Serialize};
 
@@ -73,9 +73,12 @@ fn params_of(f: &FitResult) -> Vec<Param> {
     f.params
         .as_initial()
         .into_iter()
-        .filter(|(n, _)| n != "g" || f.stderr.contains_key("g") || f.params.g != 0.0)
-        .filter(|(n, _)| !n.starts_with("mu0_seg"))
-        .map(|(name, value)| Param { stderr: f.stderr.get(&name).copied(), name, value })
+        .filter(|(n, _)| *n != ParamName::G || f.stderr.contains_key("g") || f.params.g != 0.0)
+        .filter(|(n, _)| !matches!(n, ParamName::Mu0Seg(_)))
+        .map(|(n, value)| {
+            let name = n.text();
+            Param { stderr: f.stderr.get(&name).copied(), name, value }
+        })
         .collect()
 }
 

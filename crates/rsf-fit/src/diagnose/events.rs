@@ -113,7 +113,7 @@ pub(super) fn fit_event(p: &Prepared, opts: &FitOptions, base: &FitResult, prev:
     };
     let mut pw = prepare(&p.record, &s[..=j], &o).ok()?;
     o.initial = initial_for(&pw, &o, &base.params)?;
-    o.initial.retain(|(n, _)| n != "mu0");
+    o.initial.retain(|(n, _)| *n != crate::fit::ParamName::Mu0);
     let keep: Vec<usize> = (0..pw.used.len()).filter(|&r| pw.used[r] >= mid).collect();
     if keep.len() < 10 {
         return None;

@@ -13,7 +13,9 @@ use super::starts::{fit_from, slip_rate_range};
 use super::timing::timing_mask;
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Secondary};
 use crate::data::{Record, isolated_spikes};
-use crate::fit::{Budget, FitError, FitOptions, FitResult, LoadingMode, Params, Prepared, Weighting, fit, prepare};
+use crate::fit::{
+    Budget, FitError, FitOptions, FitResult, LoadingMode, ParamName, Params, Prepared, Weighting, fit, prepare,
+};
 use crate::segment::{Segment, SegmentOptions, detect};
 
 /// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
@@ -237,8 +239,13 @@ impl Ctx<'_> {
                 None => self.p.segments.clone(),
             };
             let mut o = self.base_opts.clone();
-            o.initial =
-                self.base.params.as_initial().into_iter().filter(|(n, _)| n != "g" || o.fit_slip_trend).collect();
+            o.initial = self
+                .base
+                .params
+                .as_initial()
+                .into_iter()
+                .filter(|(n, _)| *n != ParamName::G || o.fit_slip_trend)
+                .collect();
             o.starts = 1;
             let pb = prepare(&rec, &segs, &o).ok()?;
             let fb = fit(&pb, &o).ok()?;

@@ -19,19 +19,19 @@ const VC_PROFILE_ITERATIONS: usize = 8;
 
 /// `from`'s parameters as starting values for the model `o` on `p`, keeping only the names that
 /// model knows (a law parameter or a per-segment offset of the nested model may not be there).
-pub(super) fn initial_for(p: &Prepared, o: &FitOptions, from: &Params) -> Option<Vec<(String, f64)>> {
+pub(super) fn initial_for(p: &Prepared, o: &FitOptions, from: &Params) -> Option<Vec<(ParamName, f64)>> {
     let map = parameter_map(p, &FitOptions { initial: vec![], fix: vec![], ..o.clone() }).ok()?;
     let free = map.free_names();
     Some(
         from.as_initial()
             .into_iter()
             .filter(|(n, _)| {
-                free.iter().any(|x| x == n)
-                    || ParamName::parse(n).is_some_and(|p| match p {
+                free.iter().any(|x| *x == n.text())
+                    || match n {
                         ParamName::Mu0 | ParamName::A | ParamName::K | ParamName::G => true,
-                        ParamName::B(i) | ParamName::Dc(i) => i <= o.laws.len(),
-                        _ => false,
-                    })
+                        ParamName::B(i) | ParamName::Dc(i) => *i <= o.laws.len(),
+                        ParamName::Alpha(_) | ParamName::Law(..) | ParamName::Mu0Seg(_) => false,
+                    }
             })
             .collect(),
     )
@@ -84,8 +84,9 @@ fn profile_vc(p: &Prepared, o: &FitOptions, (vlo, vhi): (f64, f64), threads: usi
     pts.sort_by(|a, b| b.1.total_cmp(&a.1));
     let refined = par_map(&pts[..pts.len().min(2)], threads, |&(vc, _)| {
         let mut oc = o.clone();
-        oc.initial.retain(|(n, _)| n != "vc1");
-        oc.initial.push(("vc1".into(), vc));
+        let vc1 = ParamName::Law("vc".into(), 1);
+        oc.initial.retain(|(n, _)| *n != vc1);
+        oc.initial.push((vc1, vc));
         oc.starts = 1;
         oc.budget = o.budget.scaled(1.0 / 3.0);
         fit(p, &oc).ok()

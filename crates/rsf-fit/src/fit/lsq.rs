@@ -63,11 +63,11 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         o1.laws.truncate(1);
         // constraints and starting values of the first state and the globals only
         o1.fix.retain(|c| c.max_state() <= 1);
-        o1.initial.retain(|(n, _)| ParamName::parse(n).is_none_or(|p| p.state().is_none_or(|i| i <= 1)));
+        o1.initial.retain(|(n, _)| n.state().is_none_or(|i| i <= 1));
         // a caller that gives the first state's start (diagnosis: the baseline optimum) spares
         // the nested one-state fit
-        let given = |n: &str| opts.initial.iter().any(|(x, _)| x == n);
-        let r1 = if given("b1") && given("dc1") && given("a") && given("mu0") {
+        let given = |n: ParamName| opts.initial.iter().any(|(x, _)| *x == n);
+        let r1 = if given(ParamName::B(1)) && given(ParamName::Dc(1)) && given(ParamName::A) && given(ParamName::Mu0) {
             let f = |i: usize| map.base[i];
             Ok(Params {
                 mu0: f(0),

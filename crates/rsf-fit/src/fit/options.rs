@@ -99,7 +99,7 @@ pub struct FitOptions {
     /// Number of starting points (1: the data-derived guess only).
     pub starts: usize,
     /// Initial values overriding the data-derived guesses (`name`, value).
-    pub initial: Vec<(String, f64)>,
+    pub initial: Vec<(super::ParamName, f64)>,
     /// How much work the fit may do (counted, so the result never depends on the machine).
     pub budget: Budget,
     /// Whether the record's normal stress drives the model.

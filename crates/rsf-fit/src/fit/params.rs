@@ -10,7 +10,7 @@ use rsf_core::{Model, N_GLOBAL, PER_STATE, StateVariable, n_params, param_index,
 pub const ALPHA_START: f64 = 0.2;
 
 /// A parameter name, parsed: the one place where names such as `b2`, `dc1`, `vc1` or
-/// `mu0_seg3` are read.
+/// `mu0_seg3` are read ([`ParamName::parse`]) and written ([`ParamName::text`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ParamName {
     /// Steady-state friction at v0.
@@ -58,12 +58,40 @@ impl ParamName {
             _ => None,
         }
     }
+    /// The name as written (`mu0`, `b2`, `vc1`, `mu0_seg3`): the inverse of [`Self::parse`].
+    pub fn text(&self) -> String {
+        match self {
+            Self::Mu0 => "mu0".into(),
+            Self::A => "a".into(),
+            Self::K => "k".into(),
+            Self::G => "g".into(),
+            Self::B(i) => format!("b{i}"),
+            Self::Dc(i) => format!("dc{i}"),
+            Self::Alpha(i) => format!("alpha{i}"),
+            Self::Law(name, i) => format!("{name}{i}"),
+            Self::Mu0Seg(s) => format!("mu0_seg{s}"),
+        }
+    }
     /// The state variable (1-based) this parameter belongs to, if any.
     pub fn state(&self) -> Option<usize> {
         match self {
             Self::B(i) | Self::Dc(i) | Self::Alpha(i) | Self::Law(_, i) => Some(*i),
             _ => None,
         }
+    }
+}
+
+impl std::fmt::Display for ParamName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(&self.text())
+    }
+}
+
+impl std::str::FromStr for ParamName {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::parse(s)
+            .ok_or_else(|| format!("`{s}` is not a parameter name (mu0, a, k, g, b1, dc1, vc1, alpha1, mu0_seg2, …)"))
     }
 }
 
@@ -361,7 +389,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         )
     };
     for (name, v) in &opts.initial {
-        base[index(name)?] = *v;
+        base[index(&name.text())?] = *v;
     }
     // constraints
     let mut constraints = vec![];

@@ -1,6 +1,6 @@
 //! What a fit returns.
 
-use super::{BudgetHit, LoadingMode, Weighting};
+use super::{BudgetHit, LoadingMode, ParamName, Weighting};
 use crate::lm::StopReason;
 use crate::segment::SegmentKind;
 use serde::Serialize;
@@ -72,16 +72,17 @@ pub struct Params {
 impl Params {
     /// These parameters as `FitOptions::initial` starting values (`mu0`, `a`, `k`, `g`, `b1`,
     /// `dc1`, …, law parameters such as `vc1`): to restart a related fit from an optimum.
-    pub fn as_initial(&self) -> Vec<(String, f64)> {
+    pub fn as_initial(&self) -> Vec<(ParamName, f64)> {
         let mut v =
-            vec![("mu0".to_string(), self.mu0), ("a".into(), self.a), ("k".into(), self.k), ("g".into(), self.g)];
+            vec![(ParamName::Mu0, self.mu0), (ParamName::A, self.a), (ParamName::K, self.k), (ParamName::G, self.g)];
         for (i, (b, dc)) in self.b.iter().zip(&self.dc).enumerate() {
-            v.push((format!("b{}", i + 1), *b));
-            v.push((format!("dc{}", i + 1), *dc));
+            v.push((ParamName::B(i + 1), *b));
+            v.push((ParamName::Dc(i + 1), *dc));
         }
-        v.extend(self.law_params.iter().map(|(n, x)| (n.clone(), *x)));
-        v.extend(self.alpha.iter().enumerate().map(|(i, x)| (format!("alpha{}", i + 1), *x)));
-        v.extend(self.mu0_offsets.iter().enumerate().map(|(k, x)| (format!("mu0_seg{}", k + 2), *x)));
+        // law parameters are stored by their written names (`vc1`), which always parse
+        v.extend(self.law_params.iter().filter_map(|(n, x)| Some((ParamName::parse(n)?, *x))));
+        v.extend(self.alpha.iter().enumerate().map(|(i, x)| (ParamName::Alpha(i + 1), *x)));
+        v.extend(self.mu0_offsets.iter().enumerate().map(|(k, x)| (ParamName::Mu0Seg(k + 2), *x)));
         v
     }
 }
