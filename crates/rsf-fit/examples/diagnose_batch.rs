@@ -119,7 +119,7 @@ fn main() {
                             match diagnose(&rec, &segs, &DiagnoseOptions { threads: 1, ..DiagnoseOptions::new(fit) }) {
                                 Ok(d) => {
                                     let secs = t.elapsed().as_secs_f64();
-                                    let est = c.param.and_then(|(k, _)| d.effect.get(k).and_then(|v| v.as_f64()));
+                                    let est = c.param.and_then(|(k, _)| d.effect.number(k));
                                     // how visible the effect is: rms of (baseline fit − noise-free
                                     // truth) over the noise σ; below 1 the effect hides in the noise
                                     let clean =

@@ -65,7 +65,7 @@ fn base() -> Model {
 }
 
 fn effect(d: &rsf_fit::diagnose::Diagnosis, key: &str) -> f64 {
-    d.effect[key].as_f64().unwrap_or_else(|| panic!("effect {key}: {:?}", d.effect))
+    d.effect.number(key).unwrap_or_else(|| panic!("effect {key}: {:?}", d.effect))
 }
 
 #[test]
@@ -87,7 +87,7 @@ fn nothing_hidden_gives_none_with_white_or_correlated_noise() {
 fn finds_an_aging_law_behind_a_slip_baseline() {
     let d = run(&base().with_state(StateVariable::new(Aging, 0.013, 8.0)), 0.005, 0.0, 3);
     assert_eq!(d.cause.as_str(), "evolution_law");
-    assert_eq!(d.effect["law"], "aging");
+    assert_eq!(d.effect.law.as_deref(), Some("aging"));
     // the signature in the per-event refits: a Slip law refitted step by step needs a longer Dc
     // for up-steps than for down-steps (Aging heals by time, fast after an up-step in slip
     // terms), and the spread is far beyond the errors
@@ -103,7 +103,7 @@ fn finds_a_small_share_of_time_dependent_healing() {
     let m = base().with_state(StateVariable::new(Slip, 0.0117, 8.0)).with_state(StateVariable::new(Aging, 0.0013, 8.0));
     let d = run(&m, 0.005, 3.0, 9);
     assert_eq!(d.cause.as_str(), "evolution_law");
-    assert_eq!(d.effect["law"], "slip+aging");
+    assert_eq!(d.effect.law.as_deref(), Some("slip+aging"));
     let share = effect(&d, "b_other_fraction");
     assert!((share / 0.1 - 1.0).abs() < 0.2, "Aging share {share}");
 }
@@ -151,8 +151,8 @@ fn finds_two_causes_at_once() {
     let mut causes = [d.cause.as_str(), s.cause.as_str()];
     causes.sort();
     assert_eq!(causes, ["second_state_variable", "slip_trend"]);
-    let g = s.effect["g"].as_f64().unwrap();
-    let dc2 = s.effect["dc2"].as_f64().unwrap();
+    let g = s.effect.g.unwrap();
+    let dc2 = s.effect.dc2.unwrap();
     assert!((g / 3e-6 - 1.0).abs() < 0.2, "g {g}");
     assert!((dc2 / 60.0 - 1.0).abs() < 0.2, "dc2 {dc2}");
 }

@@ -64,7 +64,7 @@ fn a_cutoff_below_every_starting_value_is_found() {
     let d = diagnose(&rec, &segs, &options(0.1, LoadingMode::Protocol)).unwrap();
     println!("{}\n{:?}", d.reason, d.candidates.iter().map(|c| (c.cause, c.delta_bic, &c.effect)).collect::<Vec<_>>());
     assert_eq!(d.cause, Cause::CutoffVelocity, "{}", d.reason);
-    let vc = d.effect["vc"].as_f64().unwrap();
+    let vc = d.effect.vc.unwrap();
     assert!((vc / 5e-6).ln().abs() < 2f64.ln(), "Vc {vc}");
 }
 
@@ -88,7 +88,7 @@ fn a_cutoff_only_the_last_hold_reaches_survives_the_held_out_test() {
     // … from a training part without evidence of the effect
     assert!(c.heldout_training_gain.unwrap() > rsf_fit::diagnose::DECISIVE);
     assert_eq!(d.cause, Cause::CutoffVelocity, "{}", d.reason);
-    let vc = d.effect["vc"].as_f64().unwrap();
+    let vc = d.effect.vc.unwrap();
     assert!((vc / 3e-6).ln().abs() < 2f64.ln(), "Vc {vc}");
 }
 

@@ -4,7 +4,6 @@
 use crate::fit::{AlphaFit, FitOptions, FitResult};
 use rsf_laws::Law;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// What a fitted model gets wrong (serialised as its snake_case name).
@@ -113,36 +112,102 @@ impl Cause {
     }
 
     /// This cause's effect parameters in a fit (added to `effect`).
-    fn add_effect(self, f: &FitResult, effect: &mut BTreeMap<String, serde_json::Value>) {
+    fn add_effect(self, f: &FitResult, effect: &mut Effect) {
         let pr = &f.params;
         match self {
             Self::None => {}
             Self::EvolutionLaw => {
-                effect.insert("law".into(), serde_json::json!(pr.laws.join("+")));
+                effect.law = Some(pr.laws.join("+"));
                 if pr.b.len() == 2 {
                     // share of the evolution effect carried by the other law
-                    effect.insert("b_other_fraction".into(), serde_json::json!(pr.b[1] / (pr.b[0] + pr.b[1])));
+                    effect.b_other_fraction = Some(pr.b[1] / (pr.b[0] + pr.b[1]));
                 }
             }
             Self::SecondStateVariable => {
                 // the states are exchangeable in the fit: report the slower one as the second
                 let i = (0..pr.dc.len()).max_by(|&x, &y| pr.dc[x].total_cmp(&pr.dc[y])).unwrap_or(0);
-                effect.insert("b2".into(), serde_json::json!(pr.b.get(i)));
-                effect.insert("dc2".into(), serde_json::json!(pr.dc.get(i)));
+                effect.b2 = pr.b.get(i).copied();
+                effect.dc2 = pr.dc.get(i).copied();
             }
-            Self::CutoffVelocity => {
-                effect.insert("vc".into(), serde_json::json!(pr.law_params.get("vc1")));
-            }
-            Self::SlipTrend => {
-                effect.insert("g".into(), serde_json::json!(pr.g));
-            }
-            Self::Stiffness => {
-                effect.insert("k".into(), serde_json::json!(pr.k));
-            }
-            Self::NormalStressCoupling => {
-                effect.insert("alpha".into(), serde_json::json!(pr.alpha.first()));
-            }
+            Self::CutoffVelocity => effect.vc = pr.law_params.get("vc1").copied(),
+            Self::SlipTrend => effect.g = Some(pr.g),
+            Self::Stiffness => effect.k = Some(pr.k),
+            Self::NormalStressCoupling => effect.alpha = pr.alpha.first().copied(),
         }
+    }
+}
+
+/// How large a cause is: the extension's fitted parameters that measure it (serialised in key
+/// order, each only when the cause sets it).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Effect {
+    /// Linker–Dieterich α (normal-stress coupling).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// b of the added, slower state variable.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub b2: Option<f64>,
+    /// Share of b carried by the other law in a mixture of laws.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub b_other_fraction: Option<f64>,
+    /// Dc of the added, slower state variable, µm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dc2: Option<f64>,
+    /// Slip trend g, friction per µm of slip.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g: Option<f64>,
+    /// Machine stiffness k, 1/µm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    /// The law(s) of the extended model (`aging`, `slip+aging`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub law: Option<String>,
+    /// Cut-off velocity Vc, µm/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vc: Option<f64>,
+}
+
+/// One value of an [`Effect`]: a number, or the law as text.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EffectValue {
+    /// A parameter's value.
+    Number(f64),
+    /// The law(s).
+    Law(String),
+}
+
+impl Effect {
+    /// No parameter set.
+    pub fn is_empty(&self) -> bool {
+        self.entries().is_empty()
+    }
+
+    /// The number set under `key` (a study's configured key; code that knows the cause reads
+    /// the field).
+    pub fn number(&self, key: &str) -> Option<f64> {
+        self.entries().into_iter().find_map(|(k, v)| match v {
+            EffectValue::Number(x) if k == key => Some(x),
+            EffectValue::Number(_) | EffectValue::Law(_) => None,
+        })
+    }
+
+    /// The set parameters by name, in key order (as serialised).
+    pub fn entries(&self) -> Vec<(&'static str, EffectValue)> {
+        let Effect { alpha, b2, b_other_fraction, dc2, g, k, law, vc } = self;
+        let num = |name: &'static str, x: &Option<f64>| x.map(|x| (name, EffectValue::Number(x)));
+        [
+            num("alpha", alpha),
+            num("b2", b2),
+            num("b_other_fraction", b_other_fraction),
+            num("dc2", dc2),
+            num("g", g),
+            num("k", k),
+            law.clone().map(|l| ("law", EffectValue::Law(l))),
+            num("vc", vc),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
     }
 }
 
@@ -154,8 +219,8 @@ impl std::fmt::Display for Cause {
 }
 
 /// The effect parameters of `causes` applied together in the fit `f`.
-pub fn effect_of(causes: &[Cause], f: &FitResult) -> BTreeMap<String, serde_json::Value> {
-    let mut effect = BTreeMap::new();
+pub fn effect_of(causes: &[Cause], f: &FitResult) -> Effect {
+    let mut effect = Effect::default();
     for c in causes {
         c.add_effect(f, &mut effect);
     }

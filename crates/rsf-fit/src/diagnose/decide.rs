@@ -1,10 +1,9 @@
 //! The decision: which decisive candidate is credible, the verdict in words, and the start of a
 //! combination from two optima.
 
-use super::cause::Cause;
+use super::cause::{Cause, Effect};
 use super::{Candidate, DECISIVE, Gain, Secondary};
 use crate::fit::{FitResult, Params};
-use std::collections::BTreeMap;
 
 /// An extension predicts the held-out part credibly when its rms there is at most this
 /// multiple of the baseline's.
@@ -102,7 +101,21 @@ pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
     p
 }
 
-type Verdict = (Cause, String, Option<FitResult>, Option<Gain>, BTreeMap<String, serde_json::Value>, f64);
+/// What the diagnosis concludes.
+pub(super) struct Verdict {
+    /// The cause named (`None` when no extension earns its parameters).
+    pub cause: Cause,
+    /// The reason in words.
+    pub reason: String,
+    /// The extended fit.
+    pub extended: Option<FitResult>,
+    /// What the extension gains.
+    pub gain: Option<Gain>,
+    /// How large the cause is.
+    pub effect: Effect,
+    /// ΔBIC of the chosen extension, or of the best candidate for `none`.
+    pub confidence: f64,
+}
 
 /// The cause, the reason in words, the extended fit, the gain, the effect and the confidence.
 pub(super) fn verdict(
@@ -118,9 +131,9 @@ pub(super) fn verdict(
         format!(" (better-scoring but set aside: {})", rejected.join("; "))
     };
     match chosen {
-        Some(c) => (
-            c.cause,
-            format!(
+        Some(c) => Verdict {
+            cause: c.cause,
+            reason: format!(
                 "{} improves the fit decisively: ΔBIC = {:.1} with n_eff = {:.0} (threshold {DECISIVE}), rms ratio {:.3}{}{}{}{}",
                 c.extension,
                 c.delta_bic,
@@ -143,20 +156,20 @@ pub(super) fn verdict(
                 },
                 rejected_note
             ),
-            c.fit.clone(),
-            Some(Gain {
+            extended: c.fit.clone(),
+            gain: Some(Gain {
                 delta_bic: c.delta_bic,
                 delta_aic: c.delta_aic,
                 rms_ratio: c.rms_ratio,
                 heldout_rms_before: c.heldout_rms_before,
                 heldout_rms_after: c.heldout_rms_after,
             }),
-            c.effect.clone(),
-            c.delta_bic,
-        ),
-        None => (
-            Cause::None,
-            match candidates.first() {
+            effect: c.effect.clone(),
+            confidence: c.delta_bic,
+        },
+        None => Verdict {
+            cause: Cause::None,
+            reason: match candidates.first() {
                 Some(_) if !rejected.is_empty() => format!(
                     "no extension is both decisive and credible: {} (n_eff = {n_eff:.0}); the baseline stands",
                     rejected.join("; "),
@@ -167,10 +180,10 @@ pub(super) fn verdict(
                 ),
                 None => "no candidate could be fitted".into(),
             },
-            None,
-            None,
-            BTreeMap::new(),
-            candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
-        ),
+            extended: None,
+            gain: None,
+            effect: Effect::default(),
+            confidence: candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
+        },
     }
 }

@@ -54,7 +54,7 @@ mod run;
 mod starts;
 mod timing;
 
-pub use cause::{Baseline, Cause, effect_of};
+pub use cause::{Baseline, Cause, Effect, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use noise::{NoiseModel, NoiseStderr};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};

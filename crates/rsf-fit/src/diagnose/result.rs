@@ -1,9 +1,8 @@
 //! What a diagnosis returns.
 
-use super::{Cause, EventFit, NullCalibration, Reconstruction, TimingMask};
+use super::{Cause, Effect, EventFit, NullCalibration, Reconstruction, TimingMask};
 use crate::fit::{FitOptions, FitResult};
 use serde::Serialize;
-use std::collections::BTreeMap;
 
 /// Numbers from the baseline residuals that point at causes.
 #[derive(Clone, Debug, Serialize)]
@@ -78,7 +77,7 @@ pub struct Candidate {
     /// slip trend that leaves drift behind is not told from the drift's slowest part.
     pub drift_share_after: f64,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
-    pub effect: BTreeMap<String, serde_json::Value>,
+    pub effect: Effect,
     /// Integrator steps of the candidate's fits (its work; deterministic, unlike wall time).
     pub steps: u64,
     /// Its gain against the null distribution under the baseline (decisive, credible
@@ -128,7 +127,7 @@ pub struct Secondary {
     /// Held-out rms of the combination.
     pub heldout_rms_after: Option<f64>,
     /// Effect parameters of the combined fit.
-    pub effect: BTreeMap<String, serde_json::Value>,
+    pub effect: Effect,
     /// The combined fit.
     pub fit: FitResult,
 }
@@ -151,7 +150,7 @@ pub struct Diagnosis {
     /// Gain of the extension.
     pub gain: Option<Gain>,
     /// Effect parameters of the chosen extension.
-    pub effect: BTreeMap<String, serde_json::Value>,
+    pub effect: Effect,
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
     /// When the record does not tell a cut-off velocity from a share of time-dependent healing

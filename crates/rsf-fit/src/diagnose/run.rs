@@ -495,7 +495,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         _ => None,
     };
     lap("combinations");
-    let (cause, mut reason, extended, gain, effect, confidence) =
+    let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence } =
         verdict(ctx.ev.n_effective, chosen, &candidates, &rejected, &secondary);
     // a cut-off and a share of time-dependent healing both strengthen long holds: when the
     // other one is decisive and credible too and scores within UNDECIDED_DBIC, the record does

@@ -88,16 +88,15 @@ pub(super) fn gain(d: &Diagnosis) -> String {
 /// The effect's parameters: name, value with unit and uncertainty, meaning.
 pub(super) fn effect(d: &Diagnosis) -> String {
     let mut rows = Vec::new();
-    let mut add =
-        |class: &str, effect: &std::collections::BTreeMap<String, serde_json::Value>, f: Option<&FitResult>| {
-            for (k, v) in effect {
-                let (name, _, meaning) = param_meta(k);
-                rows.push((
-                    class.to_string(),
-                    vec![format!("<l>{}", esc(&name)), esc(&effect_value(k, v, f)), format!("<l>{}", esc(meaning))],
-                ));
-            }
-        };
+    let mut add = |class: &str, effect: &crate::diagnose::Effect, f: Option<&FitResult>| {
+        for (k, v) in &effect.entries() {
+            let (name, _, meaning) = param_meta(k);
+            rows.push((
+                class.to_string(),
+                vec![format!("<l>{}", esc(&name)), esc(&effect_value(k, v, f)), format!("<l>{}", esc(meaning))],
+            ));
+        }
+    };
     add("", &d.effect, d.extended.as_ref());
     if let Some(s) = &d.secondary {
         add("second", &s.effect, Some(&s.fit));

@@ -1,11 +1,9 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use crate::diagnose::{Cause, DECISIVE, Diagnosis, Evidence};
+use crate::diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectValue, Evidence};
 use crate::fit::FitResult;
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
-use serde_json::Value;
-use std::collections::BTreeMap;
 
 /// A cause in words, as the object of "the data need …".
 pub(crate) fn cause_words(cause: Cause) -> &'static str {
@@ -100,26 +98,21 @@ pub(crate) fn stderr_for(f: &FitResult, key: &str, value: f64) -> Option<f64> {
 }
 
 /// An effect value, formatted with its unit and, from the fit `f`, its uncertainty.
-pub(crate) fn effect_value(key: &str, v: &Value, f: Option<&FitResult>) -> String {
+pub(crate) fn effect_value(key: &str, v: &EffectValue, f: Option<&FitResult>) -> String {
     let (_, unit, _) = param_meta(key);
     match v {
-        Value::Number(n) => {
-            let x = n.as_f64().unwrap_or(f64::NAN);
-            let se = f.and_then(|f| stderr_for(f, key, x)).unwrap_or(f64::NAN);
-            fmt_with_err(x, se, unit)
+        EffectValue::Number(x) => {
+            let se = f.and_then(|f| stderr_for(f, key, *x)).unwrap_or(f64::NAN);
+            fmt_with_err(*x, se, unit)
         }
-        Value::String(s) if key == "law" => law_words(s),
-        Value::String(s) => s.clone(),
-        Value::Null => "–".into(),
-        Value::Bool(b) => b.to_string(),
-        other => other.to_string().replace(['{', '}', '"'], ""),
+        EffectValue::Law(s) => law_words(s),
     }
 }
 
 /// An effect in one line: `b₂ = 0.00401, Dc₂ = 59.6 µm` (without uncertainties; escaped HTML).
-pub fn effect_summary(effect: &BTreeMap<String, Value>) -> String {
+pub fn effect_summary(effect: &Effect) -> String {
     let parts: Vec<String> =
-        effect.iter().map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, None))).collect();
+        effect.entries().iter().map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, None))).collect();
     esc(&parts.join(", "))
 }
 
@@ -214,11 +207,12 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
 /// What the data need, with the effect's numbers: "a second state variable (b₂ = …, Dc₂ = … µm)".
 fn need(d: &Diagnosis) -> String {
     let f = d.extended.as_ref();
-    let val = |k: &str| d.effect.get(k).map(|v| effect_value(k, v, f));
+    let entries = d.effect.entries();
+    let val = |k: &str| entries.iter().find(|(n, _)| *n == k).map(|(n, v)| effect_value(n, v, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
     let plain = cause_words(d.cause).to_string();
     match d.cause {
-        Cause::EvolutionLaw => match (d.effect.get("law").and_then(Value::as_str), val("b_other_fraction")) {
+        Cause::EvolutionLaw => match (d.effect.law.as_deref(), val("b_other_fraction")) {
             (Some(l), Some(share)) if l.contains('+') => {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
             }
@@ -352,6 +346,7 @@ pub fn verdict(d: &Diagnosis) -> String {
             cause_words(sec.cause),
             fmt_num(sec.delta_bic, 3),
             sec.effect
+                .entries()
                 .iter()
                 .map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, Some(&sec.fit))))
                 .collect::<Vec<_>>()
