@@ -48,13 +48,13 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
         })
     } else if !c.at_bound.is_empty() {
         Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
-    } else if c.null.as_ref().is_some_and(|n| n.uninformative) && !(c.delta_bic < super::run::BLIND_DECISIVE) {
+    } else if c.null.as_ref().is_some_and(|n| n.uninformative) && !(c.delta_bic < super::candidate::BLIND_DECISIVE) {
         Some(format!(
             "{}'s null replicates never gained (its fit lowers the likelihood on noise alone, so they cannot \
              calibrate it), and its ΔBIC {:.1} is not below {:.0}",
             c.cause,
             c.delta_bic,
-            super::run::BLIND_DECISIVE
+            super::candidate::BLIND_DECISIVE
         ))
     } else {
         c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)).map(|n| {

@@ -40,6 +40,7 @@
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
 //! | `result.rs` | [`Diagnosis`], [`Candidate`], [`Evidence`] and the rest of the output |
 
+mod candidate;
 mod cause;
 mod decide;
 pub mod events;

@@ -1,294 +1,32 @@
 //! The diagnosis: baseline, reconstruction check, evidence, candidates, held-out tests, the
 //! null calibration, the decision.
 
-use super::cause::{Cause, builtin, effect_of, other_law};
-use super::decide::{heldout_ok, ineligible, merge, verdict};
+use super::candidate::{Ctx, secondary};
+use super::cause::Cause;
+use super::decide::{heldout_ok, ineligible, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
-use super::evidence::{Noisy, evidence, noisy, reload_stiffness, scores};
+use super::evidence::{evidence, noisy, reload_stiffness};
 use super::heldout::{heldout, split_time};
-use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
-use super::starts::{fit_from, slip_rate_range};
+use super::starts::slip_rate_range;
 use super::timing::timing_mask;
-use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit, Evidence, Secondary};
+use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
 use crate::data::{Record, isolated_spikes};
-use crate::fit::{
-    Budget, FitError, FitOptions, FitResult, LoadingMode, ParamName, Params, Prepared, Weighting, fit, prepare,
-};
-use crate::segment::{Segment, SegmentOptions, detect};
-
-/// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
-/// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
-const TRAINING_BLIND_FACTOR: f64 = 10.0;
-
-/// A candidate the held-out test cannot judge, or whose null replicates cannot calibrate it
-/// (`NullCalibration::uninformative`), must earn ten times the decisive ΔBIC instead: one check
-/// fewer, more evidence. (The detection study's record 55, plain friction with AR(1)
-/// noise, spikes and encoder noise, scores a spurious cut-off of ΔBIC −34 that only the
-/// held-out test caught; record 82's real cut-off scores −4006.)
-pub(super) const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
-
-/// A candidate's held-out training fit may do this many times the work of its fit on the whole
-/// record, and at least `HELDOUT_MIN_STEPS` integrator steps.
-const HELDOUT_WORK_FACTOR: f64 = 5.0;
-const HELDOUT_MIN_STEPS: u64 = 1_000_000;
+use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
+use crate::segment::Segment;
 
 /// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
 /// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
 const CANDIDATE_STARTS: usize = 2;
-/// A free stiffness fitted from the nominal k that stays above this fraction of it has not
-/// moved off the nominal (a stiff nominal leaves no gradient in k): softer starts are tried.
-const K_STUCK_FRACTION: f64 = 0.8;
-/// The softer starting stiffnesses, as divisors of the nominal: series compliance of gouge and
-/// assembly only ever softens a machine, by up to an order of magnitude in lab rigs.
-const K_SOFTER_STARTS: [f64; 2] = [4.0, 16.0];
-/// The reload-slope k is a further start when it differs from the nominal by more than this
-/// in ln k (22%): closer, the nominal start already covers it.
-const K_RELOAD_LN_DIFF: f64 = 0.2;
 /// Slip-rate range of the Vc profile when the baseline gives none, µm/s (lab rates).
 const DEFAULT_V_RANGE: (f64, f64) = (1e-3, 1e3);
 /// Each candidate fit gets this share of the baseline's work budget: a candidate the data
 /// cannot constrain (b2 running to its bound) must not dominate the work.
 const CANDIDATE_BUDGET_SHARE: f64 = 1.0 / 3.0;
-/// The null calibration's sequential test: after (a share of the replicates), stop when the
-/// false-alarm probability is below `below`·level or above `above`·level — so far from the
-/// level either way that more replicates cannot change the verdict.
-const NULL_STAGES: [(f64, f64, f64); 2] = [(0.25, 1e-4, 100.0), (0.5, 1e-2, 10.0)];
-/// The first stage of the sequential test runs at least this many replicates.
-const NULL_MIN_FIRST_STAGE: usize = 4;
-
 /// At most this many decisive candidates are put to the null calibration (each costs
 /// `null_replicates` pairs of refits); the rest keep their place in the table.
 const MAX_CALIBRATED: usize = 3;
-
-/// What the candidates share: the record, the baseline and its evidence.
-struct Ctx<'a> {
-    rec: &'a Record,
-    segs: &'a [Segment],
-    opts: &'a DiagnoseOptions,
-    /// Baseline options (uniform weights, the loading the diagnosis settled on).
-    base_opts: FitOptions,
-    /// Candidate options: a third of the baseline's budget each.
-    cand_opts: FitOptions,
-    base_law: String,
-    p: Prepared,
-    base: FitResult,
-    /// The baseline residuals' fitted noise and their likelihood under it.
-    base_noise: Noisy,
-    ev: Evidence,
-    /// The baseline's slip rates, µm/s (the span of the Vc profile).
-    v_range: (f64, f64),
-    t_split: f64,
-    /// The baseline's held-out rms and training fit.
-    ho_base: Option<(f64, FitResult)>,
-    /// Load-point noise about the protocol, µm, when it matters for the break times: the null
-    /// replicates then re-segment their own noisy load point.
-    lp_noise: Option<f64>,
-}
-
-impl Ctx<'_> {
-    /// Fits the model `o` on `pc` from the nested optimum `from`; a free stiffness also from the
-    /// reload-slope k and softer machines (a stiff nominal k leaves no gradient in k, and series
-    /// compliance of gouge and assembly only ever softens a machine).
-    fn fit_best(&self, pc: &Prepared, o: &FitOptions, from: &Params, threads: usize) -> Option<FitResult> {
-        let first = fit_from(pc, o, from, self.v_range, threads);
-        // only when the fit from the nominal k did not soften the machine: then the nominal may
-        // sit where k has no gradient
-        let stuck = first.as_ref().is_none_or(|f| f.params.k > K_STUCK_FRACTION * from.k);
-        // (a start that already has a fitted k, e.g. a combination's, is not at the nominal)
-        let at_nominal = from.k == self.base_opts.stiffness;
-        if !(o.fit_stiffness && !self.base_opts.fit_stiffness && stuck && at_nominal) {
-            return first;
-        }
-        let mut ks: Vec<f64> = K_SOFTER_STARTS.iter().map(|d| from.k / d).collect();
-        ks.extend(self.ev.k_reload_slope.filter(|k| (k / from.k).ln().abs() > K_RELOAD_LN_DIFF));
-        ks.into_iter()
-            .filter_map(|k| fit_from(pc, o, &Params { k, ..from.clone() }, self.v_range, threads))
-            .chain(first)
-            .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood))
-    }
-
-    /// The ways to apply `cause`: its extension, and for the evolution law also a mixture (a
-    /// state of each law sharing one Dc: healing partly by time, partly by slip).
-    fn variants(&self, cause: Cause) -> Vec<(String, FitOptions)> {
-        let mut tries = vec![];
-        if let Some(o) = cause.extend(&self.cand_opts, &self.base_law) {
-            tries.push((cause.describe(&self.base_law), o));
-        }
-        if cause == Cause::EvolutionLaw {
-            let other = other_law(&self.base_law);
-            let mut om = self.cand_opts.clone();
-            om.laws.push(builtin(other));
-            om.fix.push(crate::fit::Constraint::difference("dc1", "dc2", 0.0));
-            tries.push((format!("a mixture: {} and {other} states sharing Dc", self.base_law), om));
-        }
-        tries
-    }
-
-    /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`).
-    fn fit_cause(
-        &self,
-        pc_of: &dyn Fn(&FitOptions) -> Option<Prepared>,
-        cause: Cause,
-        from: &Params,
-        base: &FitResult,
-        bn: &Noisy,
-        threads: usize,
-    ) -> Option<(String, FitOptions, Prepared, FitResult)> {
-        self.variants(cause)
-            .into_iter()
-            .filter_map(|(ext, o)| {
-                let pc = pc_of(&o)?;
-                let f = self.fit_best(&pc, &o, from, threads)?;
-                // a mixture has both states healing (b of one sign); b of opposite signs is a
-                // difference of laws, not a share of time-dependent healing
-                let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
-                let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
-                ok.then(|| (scores(base, bn, &f).0, (ext, o, pc, f)))
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, v)| v)
-    }
-
-    /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
-    /// acts through e^(−V/Vc), which is below e^(−10) wherever V > 10 Vc; when every modelled
-    /// slip rate of the training part stays above that and the training fit gained nothing
-    /// decisive, the training part holds no evidence of Vc by construction.
-    fn training_blind(&self, cause: Cause, f: &FitResult, training_gain: Option<f64>) -> bool {
-        if cause != Cause::CutoffVelocity || training_gain.is_none_or(|g| g < DECISIVE) {
-            return false;
-        }
-        let (Some((_, ft_base)), Some(vc)) = (&self.ho_base, f.params.law_params.get("vc1")) else {
-            return false;
-        };
-        let v = &ft_base.curve.slip_rate;
-        let v_min = v.iter().copied().fold(f64::INFINITY, f64::min);
-        !v.is_empty() && v_min > TRAINING_BLIND_FACTOR * vc
-    }
-
-    fn candidate(&self, cause: Cause) -> Option<Candidate> {
-        let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
-        let threads = self.opts.threads;
-        let (extension, o, pc, f) =
-            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, threads)?;
-        let (dbic, daic) = scores(&self.base, &self.base_noise, &f);
-        // the training part is smaller than the record: its fit gets a multiple of the full
-        // fit's work (a training fit wandering into a stiff corner must not dominate the run)
-        let ho_steps = ((HELDOUT_WORK_FACTOR * f.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
-        let ho = match &self.ho_base {
-            Some((_, ft_base)) => heldout(
-                &pc.record,
-                &pc.segments,
-                &o,
-                &|pt: &Prepared, ot: &FitOptions| {
-                    let ot = FitOptions { budget: Budget { steps: ho_steps, ..ot.budget }, ..ot.clone() };
-                    self.fit_best(pt, &ot, &ft_base.params, threads)
-                },
-                self.t_split,
-            ),
-            None => None,
-        };
-        // parameters at a bound that the baseline did not already have there
-        let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
-        // the extension's gain on the training part alone
-        let training_gain = match (&self.ho_base, &ho) {
-            (Some((_, ft_base)), Some((_, ft))) => Some(scores(ft_base, &noisy(ft_base), ft).0),
-            _ => None,
-        };
-        Some(Candidate {
-            cause,
-            extension,
-            delta_bic: dbic,
-            delta_aic: daic,
-            rms_ratio: f.rms / self.base.rms,
-            heldout_rms_before: self.ho_base.as_ref().map(|h| h.0),
-            heldout_rms_after: ho.as_ref().map(|h| h.0),
-            heldout_training_gain: training_gain,
-            heldout_uninformative: dbic < BLIND_DECISIVE && self.training_blind(cause, &f, training_gain),
-            drift_share_after: noisy(&f).model.drift_share,
-            effect: effect_of(&[cause], &f),
-            steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
-            null: None,
-            at_bound,
-            fit: Some(f),
-            heldout_fit: ho.map(|h| h.1),
-            options: Some(o),
-        })
-    }
-
-    /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
-    /// each refitted with the baseline and with the candidate from the replicate's baseline.
-    fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
-        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?);
-        // the replicates' noise: fitted to the candidate's residuals, not the baseline's — the
-        // baseline's hold its misfit too, which a noise model would read as drift and the null
-        // would then reproduce (as the F test takes the larger model's residual variance); a
-        // spurious candidate that absorbs drift leaves the rest of the drift in its residuals
-        let noise = noisy(c.fit.as_ref()?).model;
-        let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
-        let one = |seed: &u64| -> Option<f64> {
-            let seed = *seed;
-            let mut rec = replicate(&self.p, &self.base, &noise, seed);
-            // a noisy load point: the replicate gets its own, and its own reconstructed protocol
-            let segs = match self.lp_noise {
-                Some(sx) => {
-                    replicate_load_point(&self.p, &mut rec, sx, seed);
-                    detect(&rec.time, &rec.load_point, &SegmentOptions::default())
-                }
-                None => self.p.segments.clone(),
-            };
-            let mut o = self.base_opts.clone();
-            o.initial = self
-                .base
-                .params
-                .as_initial()
-                .into_iter()
-                .filter(|(n, _)| *n != ParamName::G || o.fit_slip_trend)
-                .collect();
-            o.starts = 1;
-            let pb = prepare(&rec, &segs, &o).ok()?;
-            let fb = fit(&pb, &o).ok()?;
-            let nb = noisy(&fb);
-            let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
-            let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1)?;
-            Some(gain(&fb, &nb, &fc))
-        };
-        let seeds: Vec<u64> =
-            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        // a sequential test (NULL_STAGES): a quarter of the replicates, then half, then all.
-        // The same seeds in the same order keep the result deterministic.
-        let (level, n) = (self.opts.false_alarm_level, seeds.len());
-        let mut gains = vec![];
-        for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
-            let upto = (n as f64 * share).ceil() as usize;
-            let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
-            if upto >= n || upto <= gains.len() {
-                continue;
-            }
-            gains.extend(par_map(&seeds[gains.len()..upto], self.opts.threads, one));
-            let decided = calibrate(observed, &gains, dk).filter(|c| {
-                let p = c.false_alarm_probability;
-                p < below * level || p > above * level
-            });
-            if decided.is_some() {
-                return decided;
-            }
-        }
-        gains.extend(par_map(&seeds[gains.len()..], self.opts.threads, one));
-        calibrate(observed, &gains, dk)
-    }
-}
-
-enum Job {
-    Candidate(Cause),
-    Event(usize, usize),
-}
-
-enum Done {
-    Candidate(Option<Box<Candidate>>),
-    Event(Option<EventFit>),
-}
 
 /// The baseline under `o`, and — under protocol loading — the reconstruction check: a segment
 /// that misfits far above the others is refitted with record loading, and if the misfit goes
@@ -324,6 +62,16 @@ fn baseline(
         }
     }
     Ok((o.clone(), p, base, None))
+}
+
+enum Job {
+    Candidate(Cause),
+    Event(usize, usize),
+}
+
+enum Done {
+    Candidate(Option<Box<Candidate>>),
+    Event(Option<EventFit>),
 }
 
 /// Runs the diagnosis on a record with its segments.
@@ -563,57 +311,4 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         candidates: candidates.clone(),
         baseline: ctx.base,
     })
-}
-
-/// A second cause: the winner combined with the two best other credible candidates (further
-/// ones explain less and cost as much), scored against the winner alone with the winner's n_eff.
-fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> Option<Secondary> {
-    let f1 = c1.fit.as_ref()?;
-    let others: Vec<&Candidate> =
-        decisive.iter().copied().filter(|c| ineligible(c, level).is_none() && c.cause != c1.cause).take(2).collect();
-    let nf1 = noisy(f1);
-    let o1 = c1.options.clone()?;
-    let threads = ctx.opts.threads;
-    let tries = par_map(&others, threads, |c2| -> Option<Secondary> {
-        let o = c2.cause.extend(&o1, &ctx.base_law)?;
-        let pc = prepare(ctx.rec, ctx.segs, &o).ok()?;
-        // from both optima: the winner's, with the added extension's parameters from its own
-        // fit (no second Vc profile, no second search for a soft machine)
-        let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
-        let f = ctx.fit_best(&pc, &o, &from, threads)?;
-        let (dbic, _) = scores(f1, &nf1, &f);
-        // held out: from the two training optima, never from a fit that saw the held-out part
-        let ho = match (&c1.heldout_fit, &c2.heldout_fit, ctx.opts.heldout) {
-            (Some(ft1), Some(ft2), true) => {
-                let from = merge(&ft1.params, &ft2.params, c2.cause);
-                heldout(
-                    &pc.record,
-                    &pc.segments,
-                    &o,
-                    &|pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &from, threads),
-                    ctx.t_split,
-                )
-                .map(|h| h.0)
-            }
-            _ => None,
-        };
-        Some(Secondary {
-            cause: c2.cause,
-            delta_bic: dbic,
-            rms_ratio: f.rms / f1.rms,
-            heldout_rms_before: c1.heldout_rms_after,
-            heldout_rms_after: ho,
-            effect: effect_of(&[c1.cause, c2.cause], &f),
-            fit: f,
-        })
-    });
-    tries
-        .into_iter()
-        .flatten()
-        .filter(|s| {
-            s.delta_bic < DECISIVE
-                && heldout_ok(s.heldout_rms_before, s.heldout_rms_after)
-                && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
-        })
-        .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
 }
