@@ -2,7 +2,7 @@
 
 use super::esc;
 use crate::diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectValue, Evidence};
-use crate::fit::FitResult;
+use crate::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
 /// A cause in words, as the object of "the data need …".
@@ -50,33 +50,43 @@ pub(crate) fn subscript(n: usize) -> String {
     n.to_string().chars().map(|c| D[c.to_digit(10).unwrap_or(0) as usize]).collect()
 }
 
-/// Name (with subscripts), unit and meaning of a fit or effect parameter.
+/// Name (with subscripts), unit and meaning of a fit or effect parameter: fit parameters by
+/// their parsed [`ParamName`], the effect's own keys by name.
 pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
-    let split = if key == "mu0" { None } else { key.find(|c: char| c.is_ascii_digit()).map(|i| key.split_at(i)) };
-    let (base, idx) = match split {
-        Some((b, n)) => (b, n.parse::<usize>().ok()),
-        None => (key, None),
+    const VC: &str = "cut-off velocity: time-dependent healing only below it";
+    const ALPHA: &str = "Linker–Dieterich coupling of state to normal-stress changes";
+    // the effect's keys that are not fit parameters, and its unindexed Vc and α
+    match key {
+        "law" => return ("law".into(), "", "evolution law(s) of the extended model"),
+        "b_other_fraction" => {
+            return ("share of b".into(), "", "share of the evolution effect carried by the other law");
+        }
+        "vc" => return ("Vc".into(), "µm/s", VC),
+        "alpha" => return ("α".into(), "", ALPHA),
+        _ => {}
+    }
+    let Some(p) = ParamName::parse(key) else {
+        return (key.to_string(), "", "");
     };
-    let sub = idx.map(subscript).unwrap_or_default();
-    match base {
-        "mu0" => ("μ₀".into(), "", "steady-state friction at the reference rate"),
-        "a" => ("a".into(), "", "direct effect"),
-        "b" => (
-            format!("b{sub}"),
+    match p {
+        ParamName::Mu0 => ("μ₀".into(), "", "steady-state friction at the reference rate"),
+        ParamName::A => ("a".into(), "", "direct effect"),
+        ParamName::K => ("k".into(), "/µm", "machine stiffness (friction per µm of load point)"),
+        ParamName::G => ("g".into(), "/µm", "friction change per µm of slip"),
+        ParamName::B(i) => (
+            format!("b{}", subscript(i)),
             "",
-            if idx == Some(2) { "evolution effect of the second state" } else { "evolution effect" },
+            if i == 2 { "evolution effect of the second state" } else { "evolution effect" },
         ),
-        "dc" => (
-            format!("Dc{sub}"),
+        ParamName::Dc(i) => (
+            format!("Dc{}", subscript(i)),
             "µm",
-            if idx == Some(2) { "slip distance of the second state" } else { "slip distance" },
+            if i == 2 { "slip distance of the second state" } else { "slip distance" },
         ),
-        "vc" => (format!("Vc{sub}"), "µm/s", "cut-off velocity: time-dependent healing only below it"),
-        "k" => ("k".into(), "/µm", "machine stiffness (friction per µm of load point)"),
-        "g" => ("g".into(), "/µm", "friction change per µm of slip"),
-        "law" => ("law".into(), "", "evolution law(s) of the extended model"),
-        "b_other_fraction" => ("share of b".into(), "", "share of the evolution effect carried by the other law"),
-        _ => (key.to_string(), "", ""),
+        ParamName::Alpha(i) => (format!("α{}", subscript(i)), "", ALPHA),
+        ParamName::Law(name, i) if name == "vc" => (format!("Vc{}", subscript(i)), "µm/s", VC),
+        ParamName::Law(name, i) => (format!("{name}{}", subscript(i)), "", "the law's own parameter"),
+        ParamName::Mu0Seg(s) => (format!("μ₀ offset{}", subscript(s)), "", "friction offset of this segment"),
     }
 }
 
@@ -354,4 +364,22 @@ pub fn verdict(d: &Diagnosis) -> String {
         );
     }
     esc(&s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::param_meta;
+
+    /// Fit parameters read by their parsed name, effect keys by theirs.
+    #[test]
+    fn parameter_names_read_as_the_field_writes_them() {
+        assert_eq!(param_meta("mu0").0, "μ₀");
+        assert_eq!(param_meta("dc2"), ("Dc₂".into(), "µm", "slip distance of the second state"));
+        assert_eq!(param_meta("vc1").1, "µm/s");
+        assert_eq!(param_meta("vc").0, "Vc");
+        assert_eq!(param_meta("alpha1").0, "α₁");
+        assert_eq!(param_meta("c1").0, "c₁");
+        assert_eq!(param_meta("b_other_fraction").0, "share of b");
+        assert_eq!(param_meta("not a name").0, "not a name");
+    }
 }
