@@ -20,6 +20,22 @@ struct Output<'a> {
     wall_s: f64,
 }
 
+/// A progress bar on stderr (hidden off a terminal) and the library's observer that drives it:
+/// the library reports, the CLI draws.
+fn progress_bar(template: &str) -> (indicatif::ProgressBar, rsf_fit::progress::Progress) {
+    let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let drawn = bar.clone();
+    let progress: rsf_fit::progress::Progress = std::sync::Arc::new(move |done, total, what: &str| {
+        drawn.set_length(total as u64);
+        drawn.set_position(done as u64);
+        drawn.set_message(what.to_string());
+    });
+    (bar, progress)
+}
+
 pub fn options(a: &FitArgs) -> Result<FitOptions> {
     let kinds: Vec<rsf_laws::Law> = match &a.laws {
         Some(l) => l
@@ -124,19 +140,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
     }
     let mcmc = match a.mcmc {
         Some(n) => {
-            // the bar is the CLI's; the library only reports samples drawn (hidden off a terminal)
-            let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("MCMC {bar:40} {pos}/{len} samples, {per_sec}, eta {eta}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            let progress: rsf_fit::progress::Progress = {
-                let bar = bar.clone();
-                std::sync::Arc::new(move |done, total, _: &str| {
-                    bar.set_length(total as u64);
-                    bar.set_position(done as u64);
-                })
-            };
+            let (bar, progress) = progress_bar("MCMC {bar:40} {pos}/{len} samples, {per_sec}, eta {eta}");
             let m = rsf_fit::mcmc::McmcOptions {
                 samples: n,
                 chains: a.chains,
@@ -303,19 +307,7 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
         rec.len(),
         segs.len()
     );
-    let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    let progress: rsf_fit::diagnose::Progress = {
-        let bar = bar.clone();
-        std::sync::Arc::new(move |done, total, what: &str| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-            bar.set_message(what.to_string());
-        })
-    };
+    let (bar, progress) = progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
     let d = rsf_fit::diagnose::diagnose(
         &rec,
         &segs,
