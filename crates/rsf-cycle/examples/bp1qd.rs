@@ -12,13 +12,19 @@
 //! intervals, the integrator's work and the time per step and per dense mat-vec.
 
 use rsf_cycle::elastic::Kernel;
-use rsf_cycle::run::{RunOptions, run_with};
+use rsf_cycle::run::{CycleProgress, ProgressFn, RunOptions, run_with};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let flag = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
-    let mut o = RunOptions { progress: true, ..RunOptions::default() };
+    let line: ProgressFn = std::sync::Arc::new(|p: &CycleProgress| {
+        eprintln!(
+            "t = {:8.2} yr  max V = {:9.3e} m/s  events {}  steps {}",
+            p.years, p.max_slip_rate, p.events, p.steps
+        )
+    });
+    let mut o = RunOptions { progress: Some(line), ..RunOptions::default() };
     if let Some(n) = flag("--cells") {
         o.cells = n.parse()?;
     }

@@ -6,16 +6,28 @@
 //! peak rate, which converges more slowly with cell size (N = 512 is within 0.2%: docs/faultsim.md).
 
 use rsf_cycle::YEAR;
-use rsf_cycle::run::{RunOptions, run};
+use rsf_cycle::run::{CycleProgress, RunOptions, run};
 
 #[test]
 fn bp1qd_coarse_matches_the_anchors() {
     let dir = std::env::temp_dir().join("rsf_cycle_bp1qd_test");
-    let o =
-        RunOptions { cells: 256, years: 600.0, max_events: Some(4), out: Some(dir.clone()), ..RunOptions::default() };
+    // the library prints nothing; the observer sees every new event and each century
+    let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::<CycleProgress>::new()));
+    let log = seen.clone();
+    let o = RunOptions {
+        cells: 256,
+        years: 600.0,
+        max_events: Some(4),
+        out: Some(dir.clone()),
+        progress: Some(std::sync::Arc::new(move |p: &CycleProgress| log.lock().unwrap().push(*p))),
+        ..RunOptions::default()
+    };
     let r = run(&o).expect("BP1-QD run");
     let ev = &r.catalogue.events;
     assert!(ev.len() >= 4, "{} events", ev.len());
+    let seen = seen.lock().unwrap();
+    assert!(seen.len() >= 4 && seen.windows(2).all(|w| w[1].years >= w[0].years), "{} reports", seen.len());
+    assert_eq!(seen.last().map(|p| p.events), Some(ev.len()));
     let on: Vec<f64> = ev.iter().map(|e| e.onset_s / YEAR).collect();
     println!("onsets {on:?}, steps {} ({} RHS) in {:.1} s", r.stats.accepted, r.stats.rhs_evals, r.wall_s);
     assert!((on[0] - 196.64).abs() < 0.5, "first event at {} yr", on[0]);

@@ -8,6 +8,7 @@
 mod batch;
 mod fitting;
 mod pylaw;
+mod spec;
 
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -105,7 +106,38 @@ fn simulate_toml<'py>(
     load_point: Option<PyReadonlyArray1<f64>>,
     laws: Option<Vec<Option<Py<PyAny>>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut p = rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    let p = rsf_solvers::protocol::parse(toml_text, base_dir.map(Path::new), name).map_err(value_error)?;
+    run(py, p, time, load_point, laws)
+}
+
+/// Solves the protocol that Python objects describe: `spec` is a dict of the protocol file's
+/// shape (`model`, `loading`, `output`, `solver`, `initial`; lists of dicts for states and
+/// segments), checked by the same rules as a file, errors naming the field. No text between.
+#[pyfunction]
+#[pyo3(signature = (spec, base_dir=None, name="Python objects", time=None, load_point=None, laws=None))]
+fn simulate_spec<'py>(
+    py: Python<'py>,
+    spec: &Bound<'py, PyDict>,
+    base_dir: Option<&str>,
+    name: &str,
+    time: Option<PyReadonlyArray1<f64>>,
+    load_point: Option<PyReadonlyArray1<f64>>,
+    laws: Option<Vec<Option<Py<PyAny>>>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let table = spec::table(spec, "")?;
+    let p = rsf_solvers::protocol::from_table(table, base_dir.map(Path::new), name).map_err(value_error)?;
+    run(py, p, time, load_point, laws)
+}
+
+/// A parsed protocol solved: Python laws put in place of their states' placeholders, a measured
+/// load point (`time`, `load_point`) in place of the loading, the GIL released for the solve.
+fn run<'py>(
+    py: Python<'py>,
+    mut p: rsf_solvers::protocol::Protocol,
+    time: Option<PyReadonlyArray1<f64>>,
+    load_point: Option<PyReadonlyArray1<f64>>,
+    laws: Option<Vec<Option<Py<PyAny>>>>,
+) -> PyResult<Bound<'py, PyDict>> {
     // Python laws replace the placeholder laws of their states
     let mut py_laws = vec![];
     for (i, f) in laws.unwrap_or_default().into_iter().enumerate() {
@@ -193,6 +225,7 @@ fn protocol_json(toml_text: &str, base_dir: Option<&str>, name: &str) -> PyResul
 #[pymodule]
 fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_spec, m)?)?;
     m.add_function(wrap_pyfunction!(read_record_columns, m)?)?;
     m.add_function(wrap_pyfunction!(protocol_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit_json, m)?)?;

@@ -195,6 +195,24 @@ def test_objects_and_load_protocol_equal_the_cli():
         rsf.simulate(rsf.Model(0.6, 1.0, 0.01, 0.01, [rsf.State("slip", b=0.01, dc=-1.0)]), p, dt=1.0)
 
 
+def test_objects_reach_rust_as_values_checked_by_the_file_rules():
+    """Python objects are not written as TOML text and parsed again (issue 23): the values go
+    to the protocol checker as they are, so non-finite numbers and numpy scalars pass exactly,
+    and an error names the field (no file line: there is none)."""
+    p = rsf.Protocol(v_init=1.0, segments=[(np.float64(10.0), {"duration": np.int64(5)})])
+    rigid = rsf.Model(0.6, 1.0, 0.01, float("inf"), [rsf.State("slip", b=0.012, dc=5.0)])
+    out = rsf.simulate(rigid, p, dt=0.5)
+    assert np.allclose(out.slip_rate_um_s, 10.0)  # infinite stiffness: V = V_lp
+    with pytest.raises(ValueError, match=r"^Python objects: `model.state\[1\].dc`: .*positive"):
+        rsf.simulate(rsf.Model(0.6, 1.0, 0.01, 0.01, [rsf.State("slip", b=0.01, dc=-1.0)]), p, dt=1.0)
+    with pytest.raises(ValueError, match="loading.segment\\[1\\].*not both"):
+        rsf.simulate(rigid, rsf.Protocol(v_init=1.0, segments=[(1.0, {"duration": 1.0, "displacement": 2.0})]), dt=1.0)
+    with pytest.raises(ValueError, match="unknown field `durration`"):
+        rsf.simulate(rigid, rsf.Protocol(v_init=1.0, segments=[(1.0, {"durration": 1.0})]), dt=1.0)
+    with pytest.raises(TypeError, match="loading.segment\\[1\\].duration"):
+        rsf.simulate(rigid, rsf.Protocol(v_init=1.0, segments=[(1.0, {"duration": object()})]), dt=1.0)
+
+
 def test_to_pandas_when_available():
     pd = pytest.importorskip("pandas")
     out = rsf.simulate(os.path.join(ROOT, "examples", "two_state_mixed.toml"))

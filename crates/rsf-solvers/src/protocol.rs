@@ -32,6 +32,7 @@ use crate::solve::{OutputTimes, Problem};
 use crate::{Method, WatchOptions};
 use rsf_core::{FrictionForm, Loading, Model, ModelError, Segment, StateVariable};
 use serde::Deserialize;
+use serde::de::DeserializeOwned;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -82,57 +83,102 @@ impl std::fmt::Display for ProtocolError {
 }
 impl std::error::Error for ProtocolError {}
 
-type S<T> = Spanned<T>;
+/// How the raw fields are held: with their byte spans in the TOML text ([`WithSpans`]), or bare,
+/// from a table built in memory ([`Bare`]: the Python objects). One validator serves both.
+trait Wrap {
+    type Of<T: DeserializeOwned>: Located<T> + DeserializeOwned;
+}
+
+/// A raw field: its value and, from text, where it was written.
+trait Located<T> {
+    fn get(&self) -> &T;
+    fn span(&self) -> Option<Range<usize>>;
+}
+
+impl<T> Located<T> for Spanned<T> {
+    fn get(&self) -> &T {
+        self.get_ref()
+    }
+    fn span(&self) -> Option<Range<usize>> {
+        Some(Spanned::span(self))
+    }
+}
+
+/// A field without a place in any text.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Bare<T>(T);
+
+impl<T> Located<T> for Bare<T> {
+    fn get(&self) -> &T {
+        &self.0
+    }
+    fn span(&self) -> Option<Range<usize>> {
+        None
+    }
+}
+
+/// Fields from TOML text, with spans.
+struct WithSpans;
+impl Wrap for WithSpans {
+    type Of<T: DeserializeOwned> = Spanned<T>;
+}
+
+/// Fields from a table built in memory.
+struct InMemory;
+impl Wrap for InMemory {
+    type Of<T: DeserializeOwned> = Bare<T>;
+}
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawFile {
-    model: S<RawModel>,
-    loading: S<RawLoading>,
-    output: Option<S<RawOutput>>,
-    solver: Option<RawSolver>,
-    initial: Option<S<RawInitial>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawFile<W: Wrap> {
+    model: W::Of<RawModel<W>>,
+    loading: W::Of<RawLoading<W>>,
+    output: Option<W::Of<RawOutput<W>>>,
+    solver: Option<RawSolver<W>>,
+    initial: Option<W::Of<RawInitial<W>>>,
 }
 
 /// `[initial]`: start off steady state, at slip rate `v` (µm/s) with state `theta` (s, one per
 /// state variable), instead of steady state at `loading.v_init`.
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawInitial {
-    v: S<f64>,
-    theta: S<Vec<f64>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawInitial<W: Wrap> {
+    v: W::Of<f64>,
+    theta: W::Of<Vec<f64>>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawModel {
-    mu0: S<f64>,
-    v0: S<f64>,
-    a: S<f64>,
-    stiffness: S<f64>,
-    eta: Option<S<f64>>,
-    form: Option<S<String>>,
-    normal_stress: Option<S<f64>>,
-    state: Option<Vec<S<RawState>>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawModel<W: Wrap> {
+    mu0: W::Of<f64>,
+    v0: W::Of<f64>,
+    a: W::Of<f64>,
+    stiffness: W::Of<f64>,
+    eta: Option<W::Of<f64>>,
+    form: Option<W::Of<String>>,
+    normal_stress: Option<W::Of<f64>>,
+    state: Option<Vec<W::Of<RawState<W>>>>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawState {
-    law: S<String>,
-    b: S<f64>,
-    dc: S<f64>,
-    vc: Option<S<f64>>,
-    c: Option<S<f64>>,
-    alpha: Option<S<f64>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawState<W: Wrap> {
+    law: W::Of<String>,
+    b: W::Of<f64>,
+    dc: W::Of<f64>,
+    vc: Option<W::Of<f64>>,
+    c: Option<W::Of<f64>>,
+    alpha: Option<W::Of<f64>>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawLoading {
-    v_init: S<f64>,
-    segment: Option<Vec<S<RawSegment>>>,
-    record: Option<S<String>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawLoading<W: Wrap> {
+    v_init: W::Of<f64>,
+    segment: Option<Vec<W::Of<RawSegment<W>>>>,
+    record: Option<W::Of<String>>,
     time_column: Option<String>,
     load_point_column: Option<String>,
     friction_column: Option<String>,
@@ -140,30 +186,30 @@ struct RawLoading {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSegment {
-    v: S<f64>,
-    duration: Option<S<f64>>,
-    displacement: Option<S<f64>>,
-    normal_stress: Option<S<f64>>,
-    normal_stress_rate: Option<S<f64>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawSegment<W: Wrap> {
+    v: W::Of<f64>,
+    duration: Option<W::Of<f64>>,
+    displacement: Option<W::Of<f64>>,
+    normal_stress: Option<W::Of<f64>>,
+    normal_stress_rate: Option<W::Of<f64>>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawOutput {
-    dt: Option<S<f64>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawOutput<W: Wrap> {
+    dt: Option<W::Of<f64>>,
     peak_slip_rate: Option<bool>,
-    event_slip_rate: Option<S<f64>>,
+    event_slip_rate: Option<W::Of<f64>>,
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSolver {
-    method: Option<S<String>>,
-    rtol: Option<S<f64>>,
-    atol: Option<S<f64>>,
-    max_slip_rate: Option<S<f64>>,
+#[serde(deny_unknown_fields, bound = "")]
+struct RawSolver<W: Wrap> {
+    method: Option<W::Of<String>>,
+    rtol: Option<W::Of<f64>>,
+    atol: Option<W::Of<f64>>,
+    max_slip_rate: Option<W::Of<f64>>,
 }
 
 /// Default solver settings.
@@ -188,24 +234,50 @@ pub fn load(path: &Path) -> Result<Protocol, ProtocolError> {
 /// Parses protocol text. `base` resolves a relative `record` path; `file` names the source
 /// in messages.
 pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, ProtocolError> {
-    let line_of = |span: &Range<usize>| Some(text[..span.start.min(text.len())].matches('\n').count() + 1);
+    let line_of = |span: &Range<usize>| text[..span.start.min(text.len())].matches('\n').count() + 1;
+    let raw: RawFile<WithSpans> = toml::from_str(text).map_err(|e| ProtocolError {
+        file: file.to_string(),
+        line: e.span().as_ref().map(line_of),
+        field: None,
+        message: e.message().to_string(),
+    })?;
+    build(raw, base, file, &line_of)
+}
+
+/// Builds a protocol from a table of the protocol file's shape built in memory (what the
+/// Python objects hold): checked by the same rules as [`parse`], errors naming the field
+/// (`model.state[1].dc`), with no line. `name` names the source in messages.
+pub fn from_table(table: toml::Table, base: Option<&Path>, name: &str) -> Result<Protocol, ProtocolError> {
+    let raw: RawFile<InMemory> = table.try_into().map_err(|e: toml::de::Error| ProtocolError {
+        file: name.to_string(),
+        line: None,
+        field: None,
+        message: e.message().to_string(),
+    })?;
+    build(raw, base, name, &|_| 0)
+}
+
+/// The one validator: raw fields (from text or memory) to a [`Protocol`], each error naming the
+/// field and, where the field has a span, its line (`line_of`).
+fn build<W: Wrap>(
+    raw: RawFile<W>,
+    base: Option<&Path>,
+    file: &str,
+    line_of: &dyn Fn(&Range<usize>) -> usize,
+) -> Result<Protocol, ProtocolError> {
     let err = |span: Option<&Range<usize>>, field: &str, message: String| ProtocolError {
         file: file.to_string(),
-        line: span.and_then(line_of),
+        line: span.map(line_of),
         field: if field.is_empty() { None } else { Some(field.to_string()) },
         message,
     };
-    let raw: RawFile = toml::from_str(text).map_err(|e| {
-        let msg = e.message().to_string();
-        err(e.span().as_ref(), "", msg)
-    })?;
 
     // ---- model
-    let rm = raw.model.get_ref();
-    let mut spans: HashMap<String, Range<usize>> = HashMap::new();
-    let mut put = |k: &str, s: &S<f64>| {
+    let rm = raw.model.get();
+    let mut spans: HashMap<String, Option<Range<usize>>> = HashMap::new();
+    let mut put = |k: &str, s: &W::Of<f64>| {
         spans.insert(k.to_string(), s.span());
-        *s.get_ref()
+        *s.get()
     };
     let mut model =
         Model::new(put("mu0", &rm.mu0), put("v0", &rm.v0), put("a", &rm.a), put("stiffness", &rm.stiffness));
@@ -216,12 +288,12 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         model.normal_stress = Some(put("normal_stress", sn));
     }
     if let Some(form) = &rm.form {
-        model.form = match form.get_ref().as_str() {
+        model.form = match form.get().as_str() {
             "classic" => FrictionForm::Classic,
             "regularized" => FrictionForm::Regularized,
             other => {
                 return Err(err(
-                    Some(&form.span()),
+                    form.span().as_ref(),
                     "model.form",
                     format!("unknown form `{other}`; use \"classic\" or \"regularized\""),
                 ));
@@ -231,23 +303,24 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     let states = rm.state.as_deref().unwrap_or(&[]);
     if states.is_empty() {
         return Err(err(
-            Some(&raw.model.span()),
+            raw.model.span().as_ref(),
             "model.state",
             "at least one [[model.state]] table is required".into(),
         ));
     }
     let mut state_spans = Vec::new();
     for (i, st) in states.iter().enumerate() {
-        let s = st.get_ref();
+        let s = st.get();
         let field = format!("model.state[{}]", i + 1);
-        let law_name = s.law.get_ref().as_str();
-        let kind: rsf_laws::Law = law_name.parse().map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
+        let law_name = s.law.get().as_str();
+        let kind: rsf_laws::Law =
+            law_name.parse().map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;
         let wanted = kind.parameters();
         for (pname, val) in [("vc", &s.vc), ("c", &s.c)] {
             if let Some(v) = val {
                 if !wanted.contains(&pname) {
                     return Err(err(
-                        Some(&v.span()),
+                        v.span().as_ref(),
                         &format!("{field}.{pname}"),
                         format!("`{pname}` does not apply to law `{law_name}`"),
                     ));
@@ -256,14 +329,14 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         }
         let law = kind
             .build(|p| match p {
-                "vc" => s.vc.as_ref().map(|v| *v.get_ref()),
-                "c" => s.c.as_ref().map(|v| *v.get_ref()),
+                "vc" => s.vc.as_ref().map(|v| *v.get()),
+                "c" => s.c.as_ref().map(|v| *v.get()),
                 _ => None,
             })
-            .map_err(|m| err(Some(&s.law.span()), &format!("{field}.law"), m))?;
-        if kind == rsf_laws::Law::Nagata && *s.b.get_ref() == 0.0 {
+            .map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;
+        if kind == rsf_laws::Law::Nagata && *s.b.get() == 0.0 {
             return Err(err(
-                Some(&s.b.span()),
+                s.b.span().as_ref(),
                 &format!("{field}.b"),
                 "Nagata's law divides by b; b must not be 0".into(),
             ));
@@ -271,29 +344,33 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         spans.insert(format!("state[{}].b", i + 1), s.b.span());
         spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
         state_spans.push(st.span());
-        let mut sv = StateVariable::from_shared(law, *s.b.get_ref(), *s.dc.get_ref());
+        let mut sv = StateVariable::from_shared(law, *s.b.get(), *s.dc.get());
         if let Some(alpha) = &s.alpha {
             spans.insert(format!("state[{}].alpha", i + 1), alpha.span());
-            sv.alpha = *alpha.get_ref();
+            sv.alpha = *alpha.get();
         }
         model.states.push(sv);
     }
     if let Err(e) = model.validate() {
         return Err(match &e {
-            ModelError::Parameter { name, .. } => err(spans.get(name), &format!("model.{name}"), e.to_string()),
-            ModelError::Law { index, .. } => {
-                err(state_spans.get(index - 1), &format!("model.state[{index}]"), e.to_string())
+            ModelError::Parameter { name, .. } => {
+                err(spans.get(name).and_then(Option::as_ref), &format!("model.{name}"), e.to_string())
             }
+            ModelError::Law { index, .. } => err(
+                state_spans.get(index - 1).and_then(Option::as_ref),
+                &format!("model.state[{index}]"),
+                e.to_string(),
+            ),
             ModelError::NoState => err(None, "model.state", e.to_string()),
         });
     }
 
     // ---- loading
-    let rl = raw.loading.get_ref();
-    let v_init = *rl.v_init.get_ref();
+    let rl = raw.loading.get();
+    let v_init = *rl.v_init.get();
     if !(v_init > 0.0 && v_init.is_finite()) {
         return Err(err(
-            Some(&rl.v_init.span()),
+            rl.v_init.span().as_ref(),
             "loading.v_init",
             format!("{v_init} must be positive and finite (µm/s)"),
         ));
@@ -304,14 +381,14 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     let (loading, is_record) = match (&rl.segment, &rl.record) {
         (Some(_), Some(r)) => {
             return Err(err(
-                Some(&r.span()),
+                r.span().as_ref(),
                 "loading.record",
                 "give either [[loading.segment]] tables or a record, not both".into(),
             ));
         }
         (None, None) => {
             return Err(err(
-                Some(&raw.loading.span()),
+                raw.loading.span().as_ref(),
                 "loading",
                 "needs [[loading.segment]] tables or a `record`".into(),
             ));
@@ -319,36 +396,36 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         (Some(segs), None) => {
             let mut out = Vec::new();
             for (i, sg) in segs.iter().enumerate() {
-                let s = sg.get_ref();
+                let s = sg.get();
                 let field = format!("loading.segment[{}]", i + 1);
                 let end = match (&s.duration, &s.displacement) {
-                    (Some(d), None) => Segment::for_duration(*s.v.get_ref(), *d.get_ref()),
-                    (None, Some(x)) => Segment::for_displacement(*s.v.get_ref(), *x.get_ref()),
+                    (Some(d), None) => Segment::for_duration(*s.v.get(), *d.get()),
+                    (None, Some(x)) => Segment::for_displacement(*s.v.get(), *x.get()),
                     (Some(_), Some(x)) => {
                         return Err(err(
-                            Some(&x.span()),
+                            x.span().as_ref(),
                             &field,
                             "give exactly one of `duration` and `displacement`, not both".into(),
                         ));
                     }
                     (None, None) => {
                         return Err(err(
-                            Some(&sg.span()),
+                            sg.span().as_ref(),
                             &field,
                             "needs `duration` (s) or `displacement` (µm)".into(),
                         ));
                     }
                 };
-                end.duration().map_err(|m| err(Some(&sg.span()), &field, m))?;
+                end.duration().map_err(|m| err(sg.span().as_ref(), &field, m))?;
                 let mut end = end;
                 if let Some(sn) = &s.normal_stress {
-                    end.normal_stress = Some(*sn.get_ref());
+                    end.normal_stress = Some(*sn.get());
                 }
                 if let Some(r) = &s.normal_stress_rate {
-                    end.normal_stress_rate = *r.get_ref();
+                    end.normal_stress_rate = *r.get();
                 }
                 if end.changes_normal_stress() && model.normal_stress.is_none() {
-                    let span = s.normal_stress.as_ref().or(s.normal_stress_rate.as_ref()).map(|x| x.span());
+                    let span = s.normal_stress.as_ref().or(s.normal_stress_rate.as_ref()).and_then(|x| x.span());
                     return Err(err(
                         span.as_ref(),
                         &field,
@@ -358,12 +435,12 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                 out.push(end);
             }
             if out.is_empty() {
-                return Err(err(Some(&raw.loading.span()), "loading.segment", "the protocol has no segments".into()));
+                return Err(err(raw.loading.span().as_ref(), "loading.segment", "the protocol has no segments".into()));
             }
             (Loading::Segments(out), false)
         }
         (None, Some(r)) => {
-            let rel = PathBuf::from(r.get_ref());
+            let rel = PathBuf::from(r.get());
             let path = match base {
                 Some(b) if rel.is_relative() => b.join(&rel),
                 _ => rel,
@@ -376,7 +453,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
                 friction: rl.friction_column.as_deref(),
                 normal_stress: rl.normal_stress_column.as_deref(),
             };
-            let read = read_load_record(&path, &cols).map_err(|m| err(Some(&r.span()), "loading.record", m))?;
+            let read = read_load_record(&path, &cols).map_err(|m| err(r.span().as_ref(), "loading.record", m))?;
             record_path = Some(path.clone());
             measured_friction = read.friction;
             if let Some(sn) = read.normal_stress {
@@ -391,12 +468,12 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     };
 
     // ---- output
-    let dt = raw.output.as_ref().and_then(|o| o.get_ref().dt.as_ref());
+    let dt = raw.output.as_ref().and_then(|o| o.get().dt.as_ref());
     let output = match dt {
         Some(dt) => {
-            let v = *dt.get_ref();
+            let v = *dt.get();
             if !(v > 0.0 && v.is_finite()) {
-                return Err(err(Some(&dt.span()), "output.dt", format!("{v} must be positive and finite (s)")));
+                return Err(err(dt.span().as_ref(), "output.dt", format!("{v} must be positive and finite (s)")));
             }
             OutputTimes::Every(v)
         }
@@ -405,7 +482,7 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             Loading::Segments(_) => unreachable!("is_record"),
         },
         None => {
-            let span = raw.output.as_ref().map(|o| o.span());
+            let span = raw.output.as_ref().and_then(|o| o.span());
             return Err(err(span.as_ref(), "output.dt", "required: the output sampling interval in s".into()));
         }
     };
@@ -414,16 +491,16 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     let (v_init, initial_theta) = match &raw.initial {
         None => (v_init, None),
         Some(ini) => {
-            let ini = ini.get_ref();
-            let v = *ini.v.get_ref();
+            let ini = ini.get();
+            let v = *ini.v.get();
             if !(v > 0.0 && v.is_finite()) {
-                return Err(err(Some(&ini.v.span()), "initial.v", format!("{v} must be positive and finite (µm/s)")));
+                return Err(err(ini.v.span().as_ref(), "initial.v", format!("{v} must be positive and finite (µm/s)")));
             }
-            let theta = ini.theta.get_ref().clone();
+            let theta = ini.theta.get().clone();
             let n = model.states.len();
             if theta.len() != n || theta.iter().any(|t| !(*t > 0.0 && t.is_finite())) {
                 return Err(err(
-                    Some(&ini.theta.span()),
+                    ini.theta.span().as_ref(),
                     "initial.theta",
                     format!("needs {n} positive, finite values (s), one per state variable (got {theta:?})"),
                 ));
@@ -438,26 +515,26 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
     let mut method_span = None;
     if let Some(s) = &raw.solver {
         if let Some(m) = &s.method {
-            method_name = m.get_ref().clone();
-            method_span = Some(m.span());
+            method_name = m.get().clone();
+            method_span = m.span();
         }
         if let Some(r) = &s.rtol {
-            rtol = *r.get_ref();
+            rtol = *r.get();
             crate::Tolerances { rtol, atol: DEFAULT_ATOL }
                 .check()
-                .map_err(|m| err(Some(&r.span()), "solver.rtol", m))?;
+                .map_err(|m| err(r.span().as_ref(), "solver.rtol", m))?;
         }
         if let Some(a) = &s.atol {
-            atol = *a.get_ref();
+            atol = *a.get();
             crate::Tolerances { rtol: DEFAULT_RTOL, atol }
                 .check()
-                .map_err(|m| err(Some(&a.span()), "solver.atol", m))?;
+                .map_err(|m| err(a.span().as_ref(), "solver.atol", m))?;
         }
         if let Some(v) = &s.max_slip_rate {
-            vmax = *v.get_ref();
+            vmax = *v.get();
             if !(vmax > v_init) {
                 return Err(err(
-                    Some(&v.span()),
+                    v.span().as_ref(),
                     "solver.max_slip_rate",
                     format!("{vmax} must exceed v_init = {v_init}"),
                 ));
@@ -471,17 +548,17 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
             format!("unknown method `{method_name}`; use one of {}", Method::NAMES.join(", ")),
         )
     })?;
-    let watch = match raw.output.as_ref().map(|o| o.get_ref()) {
+    let watch = match raw.output.as_ref().map(|o| o.get()) {
         None => WatchOptions::default(),
         Some(o) => {
             let event_slip_rate = match &o.event_slip_rate {
                 None => None,
-                Some(v) if *v.get_ref() > 0.0 && v.get_ref().is_finite() => Some(*v.get_ref()),
+                Some(v) if *v.get() > 0.0 && v.get().is_finite() => Some(*v.get()),
                 Some(v) => {
                     return Err(err(
-                        Some(&v.span()),
+                        v.span().as_ref(),
                         "output.event_slip_rate",
-                        format!("{} must be positive and finite (µm/s)", v.get_ref()),
+                        format!("{} must be positive and finite (µm/s)", v.get()),
                     ));
                 }
             };
@@ -489,6 +566,6 @@ pub fn parse(text: &str, base: Option<&Path>, file: &str) -> Result<Protocol, Pr
         }
     };
     let problem = Problem { model, loading, v_init, initial_theta, output, max_slip_rate: vmax, watch, normal_stress };
-    problem.pieces().map_err(|e| err(Some(&raw.loading.span()), "loading", e.to_string()))?;
+    problem.pieces().map_err(|e| err(raw.loading.span().as_ref(), "loading", e.to_string()))?;
     Ok(Protocol { problem, method, measured_friction, record: record_path })
 }

@@ -141,3 +141,37 @@ fn an_initial_state_off_steady_state() {
         assert!(e.contains(needle), "{e}");
     }
 }
+
+/// A table built in memory (the Python objects' path, `from_table`) is checked by the same rules
+/// as the text: every bad case of `errors_name_field_and_line` that is expressible as values
+/// gives the same field and message, without a line; the good table solves to the same result.
+#[test]
+fn tables_in_memory_are_checked_by_the_same_rules() {
+    use rsf_solvers::protocol::from_table;
+    let table = |text: &str| -> toml::Table { toml::from_str(text).unwrap() };
+    let a = parse(GOOD, None, "p.toml").unwrap();
+    let b = from_table(table(GOOD), None, "objects").unwrap();
+    let (sa, sb) = (a.method.solve(&a.problem).unwrap(), b.method.solve(&b.problem).unwrap());
+    assert_eq!(sa.mu, sb.mu);
+    for (from, to, field, what) in [
+        ("law = \"slip\"", "law = \"dieterich\"", "model.state[1].law", "unknown law `dieterich`"),
+        ("dc = 2.07", "dc = -2.07", "model.state[1].dc", "positive"),
+        ("stiffness = 0.065", "stiffness = -0.065", "model.stiffness", "positive"),
+        ("duration = 500.0", "duration = 500.0\ndisplacement = 3.0", "loading.segment[1]", "not both"),
+        ("b = 0.016", "b = 0.016\nvc = 1e-3", "model.state[1].vc", "does not apply"),
+        ("method = \"implicit\"", "method = \"rk4\"", "solver.method", "rk4"),
+        ("dt = 0.02", "dt = 0.0", "output.dt", "positive"),
+        ("mu0 = 0.65", "mu0 = 0.65\nmuu = 1", "", "unknown field `muu`"),
+    ] {
+        let text = GOOD.replace(from, to);
+        let from_text = parse(&text, None, "p.toml").unwrap_err();
+        let e = from_table(table(&text), None, "objects").unwrap_err();
+        assert_eq!(e.line, None, "{e}");
+        assert_eq!(e.field, from_text.field, "{e}");
+        assert_eq!(e.message, from_text.message, "{e}");
+        assert!(e.to_string().starts_with("objects: ") && e.to_string().contains(what), "{e}");
+        if !field.is_empty() {
+            assert!(e.to_string().contains(field), "{e}");
+        }
+    }
+}

@@ -112,54 +112,36 @@ class Setup:
     output: dict = field(default_factory=dict)
     solver: dict = field(default_factory=dict)
     initial: Optional[dict] = None
-    source: str = "protocol.toml"
+    source: str = ""
 
 
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float, np.floating, np.integer)):
-        x = float(v)
-        if math.isinf(x):
-            return "inf" if x > 0 else "-inf"
-        if math.isnan(x):
-            return "nan"
-        return repr(x)
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise TypeError(f"cannot write {v!r} to a protocol")
+def _fields(**kw: Any) -> dict:
+    """The fields given (``None``: not given)."""
+    return {k: v for k, v in kw.items() if v is not None}
 
 
-def _table(lines: list, header: str, fields: Mapping[str, Any]) -> None:
-    lines.append(header)
-    for k, v in fields.items():
-        if v is not None:
-            lines.append(f"{k} = {_toml_value(v)}")
-
-
-def _to_toml(setup: Setup) -> str:
+def _to_spec(setup: Setup) -> dict:
+    """The setup as the protocol file's tables (dicts and lists of plain values), which Rust
+    checks by the file's rules (``rsf_solvers::protocol::from_table``) — no text between."""
     m, p = setup.model, setup.protocol
-    lines: list = []
-    _table(lines, "[model]", dict(mu0=m.mu0, v0=m.v0, a=m.a, stiffness=m.stiffness, eta=m.eta, form=m.form,
-                                  normal_stress=m.normal_stress))
+    states = []
     for s in m.states:
         law = s.law if isinstance(s.law, str) else "aging"  # placeholder for a Python law
-        _table(lines, "[[model.state]]", dict(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None))
-    _table(lines, "[loading]", dict(v_init=p.v_init, record=p.record, time_column=p.time_column,
-                                    load_point_column=p.load_point_column, friction_column=p.friction_column,
-                                    normal_stress_column=p.normal_stress_column))
+        states.append(_fields(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None))
+    segments = []
     for seg in p.segments:
         v, spec = (seg["v"], {k: x for k, x in seg.items() if k != "v"}) if isinstance(seg, Mapping) else seg
-        _table(lines, "[[loading.segment]]", dict(v=v, **spec))
-    if setup.output:
-        _table(lines, "[output]", setup.output)
-    if setup.solver:
-        _table(lines, "[solver]", setup.solver)
-    if setup.initial:
-        _table(lines, "[initial]", setup.initial)
-    return "\n".join(lines) + "\n"
+        segments.append(_fields(v=v, **spec))
+    spec = dict(
+        model=_fields(mu0=m.mu0, v0=m.v0, a=m.a, stiffness=m.stiffness, eta=m.eta, form=m.form,
+                      normal_stress=m.normal_stress, state=states),
+        loading=_fields(v_init=p.v_init, segment=segments or None, record=p.record, time_column=p.time_column,
+                        load_point_column=p.load_point_column, friction_column=p.friction_column,
+                        normal_stress_column=p.normal_stress_column))
+    for key, table in (("output", setup.output), ("solver", setup.solver), ("initial", setup.initial)):
+        if table:
+            spec[key] = _fields(**table)
+    return spec
 
 
 def load_protocol(path: Union[str, os.PathLike]) -> Setup:
@@ -298,9 +280,9 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
     for s in setup.model.states:
         if not isinstance(s.law, str) and not callable(s.law):
             raise ValueError(f"state law {s.law!r}: give a name ({', '.join(LAWS)}) or a callable")
-    text = _to_toml(setup)
     base = os.path.dirname(os.path.abspath(setup.source)) if setup.source else None
-    return SimulationResult(_rsf.simulate_toml(text, base, setup.source, laws=laws, **arrays))
+    return SimulationResult(_rsf.simulate_spec(_to_spec(setup), base, setup.source or "Python objects", laws=laws,
+                                               **arrays))
 
 
 def _write_atomic(path: str, text: str) -> None:
