@@ -8,7 +8,7 @@ use super::heldout::heldout;
 use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::parallel::par_map;
 use super::starts::fit_from;
-use super::{Candidate, DECISIVE, DiagnoseOptions, Evidence, Secondary};
+use super::{Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_CALIBRATION, Secondary};
 use crate::data::Record;
 use crate::fit::{Budget, FitOptions, FitResult, ParamName, Params, Prepared, fit, prepare};
 use crate::segment::{Segment, SegmentOptions, detect};
@@ -194,10 +194,54 @@ impl Ctx<'_> {
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
             at_bound,
+            unresolved: self.unresolved(cause, &f),
             fit: Some(f),
             heldout_fit: ho.map(|h| h.1),
             options: Some(o),
         })
+    }
+
+    /// Why a decisive effect is no finding: a stiffness within [`STIFFNESS_CALIBRATION`] of the
+    /// nominal, or an added state whose Dc is shorter than the slip between two samples at the
+    /// fastest load-point rate (the record cannot resolve it: such a state only reshapes the
+    /// first sample after a step).
+    fn unresolved(&self, cause: Cause, f: &FitResult) -> Option<String> {
+        let nominal = self.base_opts.stiffness;
+        match cause {
+            Cause::Stiffness if (f.params.k / nominal - 1.0).abs() < STIFFNESS_CALIBRATION => Some(format!(
+                "k = {:.4e} is within {:.0} % of the nominal {nominal:.4e}, inside a machine calibration's uncertainty",
+                f.params.k,
+                100.0 * STIFFNESS_CALIBRATION
+            )),
+            Cause::SecondStateVariable => {
+                let res = self.slip_per_sample();
+                let dc = f.params.dc.iter().copied().fold(f64::INFINITY, f64::min);
+                (dc < res && self.base.params.dc.iter().all(|&d| d >= res)).then(|| {
+                    format!(
+                        "added state's Dc = {dc:.3e} µm is shorter than the slip between two samples at the fastest \
+                         rate ({res:.3e} µm): the record cannot resolve it"
+                    )
+                })
+            }
+            Cause::Stiffness
+            | Cause::None
+            | Cause::EvolutionLaw
+            | Cause::CutoffVelocity
+            | Cause::SlipTrend
+            | Cause::NormalStressCoupling => None,
+        }
+    }
+
+    /// The load-point slip between two samples at the fastest segment's rate, µm (its median
+    /// sampling interval × its velocity).
+    fn slip_per_sample(&self) -> f64 {
+        let t = &self.p.record.time;
+        let Some(s) = self.p.segments.iter().filter(|s| s.i1 > s.i0).max_by(|a, b| a.v.total_cmp(&b.v)) else {
+            return 0.0;
+        };
+        let mut d: Vec<f64> = t[s.i0..=s.i1].windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+        d.sort_by(f64::total_cmp);
+        d.get(d.len() / 2).map_or(0.0, |dt| s.v * dt)
     }
 
     /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,

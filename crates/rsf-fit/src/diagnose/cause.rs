@@ -1,7 +1,7 @@
 //! The closed vocabulary of causes, and what each does to a model: the extension it applies,
 //! its words, and the effect parameters it reports.
 
-use crate::fit::{AlphaFit, FitOptions, FitResult};
+use crate::fit::{AlphaFit, FitOptions, FitResult, ParamName};
 use rsf_laws::Law;
 use serde::Serialize;
 use std::sync::Arc;
@@ -128,6 +128,7 @@ impl Cause {
                 let i = (0..pr.dc.len()).max_by(|&x, &y| pr.dc[x].total_cmp(&pr.dc[y])).unwrap_or(0);
                 effect.b2 = pr.b.get(i).copied();
                 effect.dc2 = pr.dc.get(i).copied();
+                effect.second_state = Some(i + 1);
             }
             Self::CutoffVelocity => effect.vc = pr.law_params.get("vc1").copied(),
             Self::SlipTrend => effect.g = Some(pr.g),
@@ -165,6 +166,22 @@ pub struct Effect {
     /// Cut-off velocity Vc, µm/s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vc: Option<f64>,
+    /// Which fitted state (1-based) `b2` and `dc2` are: the states are exchangeable in the
+    /// fit, and the slower one is reported as the second.
+    #[serde(skip)]
+    pub second_state: Option<usize>,
+}
+
+/// One set parameter of an [`Effect`]: its key (as serialised), its value, and the fitted
+/// parameter it reports (whose standard error is its own; none for a derived share or the law).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EffectEntry {
+    /// The key in the JSON.
+    pub key: &'static str,
+    /// The value.
+    pub value: EffectValue,
+    /// The fitted parameter it is.
+    pub parameter: Option<ParamName>,
 }
 
 /// One value of an [`Effect`]: a number, or the law as text.
@@ -185,25 +202,28 @@ impl Effect {
     /// The number set under `key` (a study's configured key; code that knows the cause reads
     /// the field).
     pub fn number(&self, key: &str) -> Option<f64> {
-        self.entries().into_iter().find_map(|(k, v)| match v {
-            EffectValue::Number(x) if k == key => Some(x),
+        self.entries().into_iter().find_map(|e| match e.value {
+            EffectValue::Number(x) if e.key == key => Some(x),
             EffectValue::Number(_) | EffectValue::Law(_) => None,
         })
     }
 
-    /// The set parameters by name, in key order (as serialised).
-    pub fn entries(&self) -> Vec<(&'static str, EffectValue)> {
-        let Effect { alpha, b2, b_other_fraction, dc2, g, k, law, vc } = self;
-        let num = |name: &'static str, x: &Option<f64>| x.map(|x| (name, EffectValue::Number(x)));
+    /// The set parameters, in key order (as serialised).
+    pub fn entries(&self) -> Vec<EffectEntry> {
+        let Effect { alpha, b2, b_other_fraction, dc2, g, k, law, vc, second_state } = self;
+        let num = |key: &'static str, x: &Option<f64>, parameter: Option<ParamName>| {
+            x.map(|x| EffectEntry { key, value: EffectValue::Number(x), parameter })
+        };
+        let state = second_state.unwrap_or(2);
         [
-            num("alpha", alpha),
-            num("b2", b2),
-            num("b_other_fraction", b_other_fraction),
-            num("dc2", dc2),
-            num("g", g),
-            num("k", k),
-            law.clone().map(|l| ("law", EffectValue::Law(l))),
-            num("vc", vc),
+            num("alpha", alpha, Some(ParamName::Alpha(1))),
+            num("b2", b2, Some(ParamName::B(state))),
+            num("b_other_fraction", b_other_fraction, None),
+            num("dc2", dc2, Some(ParamName::Dc(state))),
+            num("g", g, Some(ParamName::G)),
+            num("k", k, Some(ParamName::K)),
+            law.clone().map(|l| EffectEntry { key: "law", value: EffectValue::Law(l), parameter: None }),
+            num("vc", vc, Some(ParamName::Law("vc".into(), 1))),
         ]
         .into_iter()
         .flatten()

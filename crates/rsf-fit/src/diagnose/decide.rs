@@ -48,6 +48,8 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
         })
     } else if !c.at_bound.is_empty() {
         Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
+    } else if let Some(why) = &c.unresolved {
+        Some(format!("{}'s {why}", c.cause))
     } else if c.null.as_ref().is_some_and(|n| n.uninformative) && !(c.delta_bic < super::candidate::BLIND_DECISIVE) {
         Some(format!(
             "{}'s null replicates never gained (its fit lowers the likelihood on noise alone, so they cannot \

@@ -137,20 +137,17 @@ pub(super) struct Noisy {
     pub(super) ll: f64,
 }
 
-/// The residuals of `f` and their median sampling interval.
-fn residuals(f: &FitResult) -> (Vec<f64>, f64) {
+/// The residuals of `f` and their sample times.
+fn residuals(f: &FitResult) -> (Vec<f64>, &[f64]) {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
-    let mut dts: Vec<f64> = c.time.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
-    dts.sort_by(f64::total_cmp);
-    (res, dts.get(dts.len() / 2).copied().unwrap_or(1.0))
+    (res, &c.time)
 }
 
 /// The noise of `f`'s residuals ([`NoiseModel`]) and their log-likelihood under it.
 pub(super) fn noisy(f: &FitResult) -> Noisy {
-    let (r, dt) = residuals(f);
-    let model = NoiseModel::fit(&r, dt);
-    let ll = model.log_likelihood(&r);
+    let (r, times) = residuals(f);
+    let (model, ll) = NoiseModel::fit_at(&r, times);
     Noisy { model, ll }
 }
 
@@ -183,6 +180,6 @@ pub(super) fn residual_correlation(f: &FitResult) -> (Vec<f64>, f64, f64) {
 
 /// n_eff of a fit's residuals under their fitted noise model.
 pub(super) fn n_eff_of(f: &FitResult) -> f64 {
-    let (r, dt) = residuals(f);
-    NoiseModel::fit(&r, dt).n_effective
+    let (r, times) = residuals(f);
+    NoiseModel::fit_at(&r, times).0.n_effective
 }

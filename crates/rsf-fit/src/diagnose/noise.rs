@@ -18,23 +18,29 @@
 //! n_eff = n σ²/S(f₁) at the lowest resolved frequency f₁ = 1/n: n for white noise,
 //! n(1 − ρ)/(1 + ρ) for AR(1), far less under 1/f drift. The null replicates draw noise with
 //! the fitted spectrum ([`NoiseModel::synthesize`]).
+//!
+//! A variably sampled record (100 Hz after a step, 1 Hz in a hold) gets the same three parts
+//! defined in time instead of sample index, an exact state-space likelihood and replicates in
+//! time: `diagnose/sampling.rs` ([`NoiseModel::fit_at`] chooses).
 
 use rand_distr::{Distribution, StandardNormal};
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 use serde::Serialize;
 
+use super::sampling;
+
 /// Periodogram ordinates kept one by one at the lowest frequencies, where a drift's power is.
-const SINGLE_BINS: usize = 12;
+pub(super) const SINGLE_BINS: usize = 12;
 /// Bins grow by this factor above them: ~150 bins for 10⁵ samples.
 const BIN_GROWTH: f64 = 1.06;
 /// Power-law exponents tried: from mild (β = 0.4) to a random walk (β = 2).
-const BETAS: [f64; 9] = [0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0];
+pub(super) const BETAS: [f64; 9] = [0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0];
 /// AR(1) coefficients per sample tried (0: no AR part).
 const PHIS: [f64; 12] = [0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.998, 0.999];
 /// The drift of a replicate is drawn on at most this many time points (a 10⁵ s record at
 /// 25 ms), then interpolated.
-const MAX_DRIFT_GRID: usize = 1 << 22;
+pub(super) const MAX_DRIFT_GRID: usize = 1 << 22;
 /// Whittle scoring iterations per grid point (converged to < 1e-6 in the amplitudes well before).
 const SCORING_ITERATIONS: usize = 12;
 
@@ -69,8 +75,38 @@ pub struct NoiseModel {
     /// Median sampling interval, s.
     pub dt: f64,
     /// The binned periodogram the model was fitted to: frequency (Hz), mean power, and the
-    /// model's power there (the residual-spectrum figure of the report).
+    /// model's power there (the residual-spectrum figure of the report). For a variably sampled
+    /// record, each stretch's power is scaled to the median interval (× Δ/`dt`), so that
+    /// `power × dt` is friction²/Hz throughout.
     pub periodogram: Vec<[f64; 3]>,
+    /// How the sampling entered the model: absent for a uniformly sampled record (the
+    /// spectrum in sample index); for a variably sampled one, the stretches of one interval
+    /// the spectrum in time was fitted to (`diagnose/sampling.rs`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampling: Option<VariableSampling>,
+    /// The drift part's reference length in median intervals: the lowest resolved frequency
+    /// is 1/(`drift_n` · `dt`) Hz (n for a uniformly sampled record, span/`dt` otherwise).
+    #[serde(skip)]
+    pub(super) drift_n: f64,
+}
+
+/// A variably sampled record's stretches of one sampling interval, from which its noise
+/// spectrum in time was estimated.
+#[derive(Clone, Debug, Serialize)]
+pub struct VariableSampling {
+    /// Stretches of one interval long enough for a spectrum.
+    pub stretches: usize,
+    /// Distinct sampling intervals among them.
+    pub intervals: usize,
+    /// Shortest and longest of those intervals, s.
+    pub interval_range_s: [f64; 2],
+    /// Samples in those stretches (the rest enter the likelihood, not the spectrum).
+    pub samples_in_stretches: usize,
+    /// Time span of the record, s.
+    pub span_s: f64,
+    /// Time constants of the OU processes whose sum stands for the drift part in the
+    /// likelihood, s.
+    pub drift_time_constants_s: Vec<f64>,
 }
 
 /// Standard errors of the noise model's parameters.
@@ -89,13 +125,13 @@ pub struct NoiseStderr {
 }
 
 /// The three spectral shapes at frequency `f` (cycles per sample) for `n` samples.
-fn basis(f: f64, n: usize, beta: f64, phi: f64) -> [f64; 3] {
-    let ar = if phi > 0.0 {
-        (1.0 - phi * phi) / (1.0 - 2.0 * phi * (std::f64::consts::TAU * f).cos() + phi * phi)
-    } else {
-        0.0
-    };
-    [1.0, ar, (f * n as f64).powf(-beta)]
+fn basis(f: f64, n: f64, beta: f64, phi: f64) -> [f64; 3] {
+    [1.0, ar1_shape(f, phi), (f * n).powf(-beta)]
+}
+
+/// The AR(1) spectrum of unit variance at `f` cycles per sample (0 for φ = 0).
+pub(super) fn ar1_shape(f: f64, phi: f64) -> f64 {
+    if phi > 0.0 { (1.0 - phi * phi) / (1.0 - 2.0 * phi * (std::f64::consts::TAU * f).cos() + phi * phi) } else { 0.0 }
 }
 
 /// |DFT|²/n at the frequencies j/n, j = 1..=n/2.
@@ -123,7 +159,7 @@ fn bins(p: &[f64], n: usize) -> Vec<(f64, f64, f64)> {
 }
 
 /// −Whittle log-likelihood of binned power under amplitudes `a` of the basis.
-fn whittle(b: &[(f64, f64, f64)], x: &[[f64; 3]], a: &[f64; 3]) -> f64 {
+pub(super) fn whittle(b: &[(f64, f64, f64)], x: &[[f64; 3]], a: &[f64; 3]) -> f64 {
     b.iter()
         .zip(x)
         .map(|(&(_, ibar, m), xb)| {
@@ -138,7 +174,13 @@ fn whittle(b: &[(f64, f64, f64)], x: &[[f64; 3]], a: &[f64; 3]) -> f64 {
 /// penalty of the parts used (`penalty` per parameter: an AR or drift part costs two, its
 /// amplitude and its shape), so that a part is kept only when the spectrum needs it — a chance
 /// excess in the few lowest ordinates must not become a drift.
-fn amplitudes(b: &[(f64, f64, f64)], x: &[[f64; 3]], var: f64, has_ar: bool, penalty: f64) -> ([f64; 3], f64) {
+pub(super) fn amplitudes(
+    b: &[(f64, f64, f64)],
+    x: &[[f64; 3]],
+    var: f64,
+    has_ar: bool,
+    penalty: f64,
+) -> ([f64; 3], f64) {
     let cost = |a: &[f64; 3]| {
         let k = 1 + 2 * usize::from(a[1] > 0.0) + 2 * usize::from(a[2] > 0.0);
         whittle(b, x, a) + penalty * k as f64
@@ -188,6 +230,48 @@ fn amplitudes(b: &[(f64, f64, f64)], x: &[[f64; 3]], var: f64, has_ar: bool, pen
     best
 }
 
+/// Standard errors of the amplitudes `a` from their Fisher information Σ m x_i x_j / S² (NaN
+/// for a part not used).
+pub(super) fn amplitude_stderr(b: &[(f64, f64, f64)], x: &[[f64; 3]], a: &[f64; 3]) -> [f64; 3] {
+    let mut info = [[0.0; 3]; 3];
+    for (&(_, _, m), xb) in b.iter().zip(x) {
+        let s = (a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]).max(1e-300);
+        for i in 0..3 {
+            for j in 0..3 {
+                info[i][j] += m * xb[i] * xb[j] / (s * s);
+            }
+        }
+    }
+    let on: Vec<usize> = (0..3).filter(|&k| a[k] > 0.0).collect();
+    let mut se = [f64::NAN; 3];
+    for &k in &on {
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        if let Some(c) = solve_small(&info, &e, &on) {
+            se[k] = c[k].max(0.0).sqrt();
+        }
+    }
+    se
+}
+
+/// Σ_{j=1}^{n/2} j^(−β) · 2/n: the share of a power-law part of unit amplitude (at the lowest
+/// of n Fourier frequencies) in the variance — exact for the first terms, the integral beyond.
+pub(super) fn power_law_variance(n: f64, beta: f64) -> f64 {
+    const EXACT_TERMS: usize = 2000;
+    let half = (n / 2.0).floor();
+    let exact = (half as usize).min(EXACT_TERMS);
+    let mut sum: f64 = (1..=exact).map(|j| (j as f64).powf(-beta)).sum();
+    if half > exact as f64 {
+        let (lo, hi) = (exact as f64 + 0.5, half + 0.5);
+        sum += if (beta - 1.0).abs() < 1e-12 {
+            (hi / lo).ln()
+        } else {
+            (hi.powf(1.0 - beta) - lo.powf(1.0 - beta)) / (1.0 - beta)
+        };
+    }
+    sum * 2.0 / n
+}
+
 /// Solves the rows/columns `on` of h a = g (at most 3×3) by Gaussian elimination.
 fn solve_small(h: &[[f64; 3]; 3], g: &[f64; 3], on: &[usize]) -> Option<[f64; 3]> {
     let k = on.len();
@@ -222,7 +306,7 @@ fn solve_small(h: &[[f64; 3]; 3], g: &[f64; 3], on: &[usize]) -> Option<[f64; 3]
 
 /// Standard error of a grid parameter from the profile likelihood's curvature at the best
 /// point (NaN at the grid's edge or where the curvature is not positive).
-fn grid_stderr(grid: &[f64], nll: &[f64], i: usize) -> f64 {
+pub(super) fn grid_stderr(grid: &[f64], nll: &[f64], i: usize) -> f64 {
     if i == 0 || i + 1 >= grid.len() {
         return f64::NAN;
     }
@@ -234,7 +318,32 @@ fn grid_stderr(grid: &[f64], nll: &[f64], i: usize) -> f64 {
 }
 
 impl NoiseModel {
-    /// Fits the model to residuals `r` sampled every `dt` seconds (median interval).
+    /// Fits the model to residuals `r` at sample `times` (s): in sample index for a uniformly
+    /// sampled record ([`NoiseModel::fit`]), in time for a variably sampled one
+    /// (`diagnose/sampling.rs`). Returns the model and the residuals' log-likelihood under it
+    /// ([`NoiseModel::log_likelihood_at`]).
+    pub fn fit_at(r: &[f64], times: &[f64]) -> (NoiseModel, f64) {
+        if sampling::is_variable(times) {
+            sampling::fit(r, times)
+        } else {
+            let m = NoiseModel::fit(r, sampling::median_interval(times));
+            let ll = m.log_likelihood(r);
+            (m, ll)
+        }
+    }
+
+    /// The log-likelihood of residuals `r` at sample `times` under this model: Whittle's for
+    /// a model fitted in sample index ([`NoiseModel::log_likelihood`]), the exact Gaussian one
+    /// of the state-space form for a model in time.
+    pub fn log_likelihood_at(&self, r: &[f64], times: &[f64]) -> f64 {
+        match &self.sampling {
+            None => self.log_likelihood(r),
+            Some(_) => sampling::log_likelihood(self, r, times),
+        }
+    }
+
+    /// Fits the model to residuals `r` sampled every `dt` seconds (median interval), in sample
+    /// index.
     pub fn fit(r: &[f64], dt: f64) -> NoiseModel {
         let n = r.len();
         let mean = r.iter().sum::<f64>() / n.max(1) as f64;
@@ -250,7 +359,7 @@ impl NoiseModel {
         let mut table = vec![vec![f64::INFINITY; PHIS.len()]; BETAS.len()];
         for (ib, &beta) in BETAS.iter().enumerate() {
             for (ip, &phi) in PHIS.iter().enumerate() {
-                let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n, beta, phi)).collect();
+                let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n as f64, beta, phi)).collect();
                 let (a, v) = amplitudes(&b, &x, var, phi > 0.0, penalty);
                 table[ib][ip] = v;
                 if v < best.0 {
@@ -260,31 +369,12 @@ impl NoiseModel {
         }
         let (_, ib, ip, a) = best;
         let (beta, phi) = (BETAS[ib], PHIS[ip]);
-        let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n, beta, phi)).collect();
-        // Fisher information of the amplitudes: Σ m x_i x_j / S²
-        let mut info = [[0.0; 3]; 3];
-        for (&(_, _, m), xb) in b.iter().zip(&x) {
-            let s = (a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]).max(1e-300);
-            for i in 0..3 {
-                for j in 0..3 {
-                    info[i][j] += m * xb[i] * xb[j] / (s * s);
-                }
-            }
-        }
-        let on: Vec<usize> = (0..3).filter(|&k| a[k] > 0.0).collect();
-        let mut se = [f64::NAN; 3];
-        for (col, &k) in on.iter().enumerate() {
-            let mut e = [0.0; 3];
-            e[k] = 1.0;
-            if let Some(c) = solve_small(&info, &e, &on) {
-                se[k] = c[k].max(0.0).sqrt();
-            }
-            let _ = col;
-        }
+        let x: Vec<[f64; 3]> = b.iter().map(|&(f, _, _)| basis(f, n as f64, beta, phi)).collect();
+        let se = amplitude_stderr(&b, &x, &a);
         let beta_profile: Vec<f64> = (0..BETAS.len()).map(|i| table[i][ip]).collect();
         let phi_profile: Vec<f64> = table[ib].clone();
         let model_power = |f: f64| {
-            let xb = basis(f, n, beta, phi);
+            let xb = basis(f, n as f64, beta, phi);
             a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2]
         };
         // the drift part's share of the variance: ∫ S_drift df over the resolved band, as
@@ -311,6 +401,8 @@ impl NoiseModel {
             n,
             dt,
             periodogram: b.iter().map(|&(f, ibar, _)| [f / dt, ibar, model_power(f)]).collect(),
+            sampling: None,
+            drift_n: n as f64,
         }
     }
 
@@ -330,14 +422,21 @@ impl NoiseModel {
             n,
             dt,
             periodogram: vec![],
+            sampling: None,
+            drift_n: n as f64,
         }
     }
 
     /// S at `f` cycles per sample, for a series of `n` samples (the drift part's scale is set
     /// by the series the model was fitted to).
     pub fn power(&self, f: f64) -> f64 {
-        let xb = basis(f, self.n, self.drift_beta, self.ar1_phi);
+        let xb = basis(f, self.drift_n, self.drift_beta, self.ar1_phi);
         (self.white_variance * xb[0] + self.ar1_variance * xb[1] + self.drift_amplitude * xb[2]).max(1e-300)
+    }
+
+    /// The drift part's two-sided power spectral density at `nu` Hz, friction²/Hz.
+    pub fn drift_psd(&self, nu: f64) -> f64 {
+        self.drift_amplitude * (nu * self.dt * self.drift_n).powf(-self.drift_beta) * self.dt
     }
 
     /// Parameters of the model: the white variance, and an amplitude and a shape for each of
@@ -386,11 +485,15 @@ impl NoiseModel {
         sum
     }
 
-    /// Noise at the sample `times` (s): the white and AR(1) parts per sample, the drift part in
+    /// Noise at the sample `times` (s). For a model in time, every part in time
+    /// (`diagnose/sampling.rs`). Otherwise the white and AR(1) parts per sample, the drift part in
     /// time — drawn on a uniform grid at the model's median interval and interpolated — so
     /// that a record sampled densely after steps and sparsely in holds gets its drift where
     /// real drift is, in time, not in sample count.
     pub fn synthesize_at<R: rand::Rng + ?Sized>(&self, times: &[f64], rng: &mut R) -> Vec<f64> {
+        if self.sampling.is_some() {
+            return sampling::synthesize(self, times, rng);
+        }
         let n = times.len();
         let short = NoiseModel { drift_amplitude: 0.0, ..self.clone() };
         let mut e = short.synthesize(n, rng);

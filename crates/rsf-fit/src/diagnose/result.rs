@@ -87,6 +87,12 @@ pub struct Candidate {
     /// Free parameters of its fit that ended at a physical bound (such a candidate is not
     /// named: the data do not constrain it).
     pub at_bound: Vec<String>,
+    /// Set when the effect, though decisive, is below what the record or the lab's nominal
+    /// values resolve: a fitted stiffness within [`super::STIFFNESS_CALIBRATION`] of the
+    /// nominal, or an added state with Dc shorter than the slip between two samples at the
+    /// fastest rate. Such a candidate is not named.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unresolved: Option<String>,
     /// The fit.
     #[serde(skip)]
     pub fit: Option<FitResult>,

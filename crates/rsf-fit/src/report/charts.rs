@@ -171,19 +171,20 @@ pub fn noise_svg(d: &Diagnosis) -> Result<String, PlotError> {
     };
     let data: Vec<(f64, f64)> = m.periodogram.iter().filter(|p| p[1] > 0.0).map(|p| (p[0], p[1] * m.dt)).collect();
     let model: Vec<(f64, f64)> = m.periodogram.iter().map(|p| (p[0], p[2] * m.dt)).collect();
+    // a variably sampled record's spectrum comes from stretches at several intervals, each with
+    // its own aliasing and white level per Hz: the model is drawn at each bin, not as one line
+    let model_series = match m.sampling {
+        None => Series::line("fitted noise model".to_string(), model, BLACK),
+        Some(_) => Series::dots("fitted noise model (at each stretch's bins)".to_string(), model, BLACK),
+    };
     let mut panel =
         Panel::new("residual spectrum of the baseline", "frequency (Hz)", "power spectral density (friction²/Hz)")
             .log_x()
             .log_y()
             .with(Series::dots("residuals (binned periodogram)".to_string(), data, BASELINE))
-            .with(Series::line("fitted noise model".to_string(), model, BLACK));
+            .with(model_series);
     if m.drift_amplitude > 0.0 {
-        let n = m.n as f64;
-        let drift = m
-            .periodogram
-            .iter()
-            .map(|p| (p[0], m.drift_amplitude * (p[0] * m.dt * n).powf(-m.drift_beta) * m.dt))
-            .collect();
+        let drift = m.periodogram.iter().map(|p| (p[0], m.drift_psd(p[0]))).collect();
         panel = panel.with(Series::dashed(format!("drift part, ∝ f^-{:.1}", m.drift_beta), drift, EXTENDED));
     }
     let (lo, hi) = (m.periodogram[0][0], m.periodogram[m.periodogram.len() - 1][0]);

@@ -89,11 +89,11 @@ pub(super) fn gain(d: &Diagnosis) -> String {
 pub(super) fn effect(d: &Diagnosis) -> String {
     let mut rows = Vec::new();
     let mut add = |class: &str, effect: &crate::diagnose::Effect, f: Option<&FitResult>| {
-        for (k, v) in &effect.entries() {
-            let (name, _, meaning) = param_meta(k);
+        for e in &effect.entries() {
+            let (name, _, meaning) = param_meta(e.key);
             rows.push((
                 class.to_string(),
-                vec![format!("<l>{}", esc(&name)), esc(&effect_value(k, v, f)), format!("<l>{}", esc(meaning))],
+                vec![format!("<l>{}", esc(&name)), esc(&effect_value(e, f)), format!("<l>{}", esc(meaning))],
             ));
         }
     };

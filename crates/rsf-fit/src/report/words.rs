@@ -1,7 +1,7 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use crate::diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectValue, Evidence};
+use crate::diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectValue, Evidence};
 use crate::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
@@ -90,30 +90,14 @@ pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
     }
 }
 
-/// The standard error of an effect parameter `key` = `value` in the fit `f`: by name, or for
-/// `b2`/`dc2`/`vc` the fitted state whose value it is.
-pub(crate) fn stderr_for(f: &FitResult, key: &str, value: f64) -> Option<f64> {
-    if let Some(s) = f.stderr.get(key) {
-        return Some(*s);
-    }
-    let same = |x: f64| (x - value).abs() <= 1e-12 * value.abs().max(1e-300);
-    let p = &f.params;
-    let name = match key {
-        "b2" => p.b.iter().position(|&x| same(x)).map(|i| format!("b{}", i + 1)),
-        "dc2" => p.dc.iter().position(|&x| same(x)).map(|i| format!("dc{}", i + 1)),
-        "vc" => p.law_params.iter().find(|(n, x)| n.starts_with("vc") && same(**x)).map(|(n, _)| n.clone()),
-        _ => None,
-    }?;
-    f.stderr.get(&name).copied()
-}
-
-/// An effect value, formatted with its unit and, from the fit `f`, its uncertainty.
-pub(crate) fn effect_value(key: &str, v: &EffectValue, f: Option<&FitResult>) -> String {
-    let (_, unit, _) = param_meta(key);
-    match v {
+/// An effect value, formatted with its unit and, from the fit `f`, the standard error of the
+/// fitted parameter it is.
+pub(crate) fn effect_value(e: &EffectEntry, f: Option<&FitResult>) -> String {
+    let (_, unit, _) = param_meta(e.key);
+    match &e.value {
         EffectValue::Number(x) => {
-            let se = f.and_then(|f| stderr_for(f, key, *x)).unwrap_or(f64::NAN);
-            fmt_with_err(*x, se, unit)
+            let se = f.zip(e.parameter.as_ref()).and_then(|(f, p)| f.stderr.get(&p.text()).copied());
+            fmt_with_err(*x, se.unwrap_or(f64::NAN), unit)
         }
         EffectValue::Law(s) => law_words(s),
     }
@@ -122,7 +106,7 @@ pub(crate) fn effect_value(key: &str, v: &EffectValue, f: Option<&FitResult>) ->
 /// An effect in one line: `b₂ = 0.00401, Dc₂ = 59.6 µm` (without uncertainties; escaped HTML).
 pub fn effect_summary(effect: &Effect) -> String {
     let parts: Vec<String> =
-        effect.entries().iter().map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, None))).collect();
+        effect.entries().iter().map(|e| format!("{} = {}", param_meta(e.key).0, effect_value(e, None))).collect();
     esc(&parts.join(", "))
 }
 
@@ -218,7 +202,7 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
 fn need(d: &Diagnosis) -> String {
     let f = d.extended.as_ref();
     let entries = d.effect.entries();
-    let val = |k: &str| entries.iter().find(|(n, _)| *n == k).map(|(n, v)| effect_value(n, v, f));
+    let val = |k: &str| entries.iter().find(|e| e.key == k).map(|e| effect_value(e, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
     let plain = cause_words(d.cause).to_string();
     match d.cause {
@@ -288,6 +272,8 @@ pub fn verdict(d: &Diagnosis) -> String {
                     .map(|c| {
                         let why = if !c.at_bound.is_empty() {
                             format!("{} ran to a bound", c.at_bound.join(", "))
+                        } else if let Some(w) = &c.unresolved {
+                            w.clone()
                         } else if let (Some(b), Some(a)) = (c.heldout_rms_before, c.heldout_rms_after) {
                             if a > 1.05 * b {
                                 format!(
@@ -358,7 +344,7 @@ pub fn verdict(d: &Diagnosis) -> String {
             sec.effect
                 .entries()
                 .iter()
-                .map(|(k, v)| format!("{} = {}", param_meta(k).0, effect_value(k, v, Some(&sec.fit))))
+                .map(|e| format!("{} = {}", param_meta(e.key).0, effect_value(e, Some(&sec.fit))))
                 .collect::<Vec<_>>()
                 .join(", ")
         );
