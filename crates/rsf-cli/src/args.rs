@@ -212,7 +212,7 @@ pub(crate) struct BatchArgs {
     /// The manifest (CSV) or a folder of records (.csv, .txt, .tsv, .dat; options from the
     /// command line).
     pub(crate) input: PathBuf,
-    /// Output folder: summary.csv, summary.svg and records/ (created when missing).
+    /// Output folder: summary.csv, summary.parquet, summary.svg and records/ (created when missing).
     #[arg(long)]
     pub(crate) out: PathBuf,
     /// Fit each record (as `rsf fit`, law --law).
@@ -373,7 +373,8 @@ The manifest is a CSV file; its columns (any order; an empty cell takes the comm
 Any other column is refused, so a misspelt option is never ignored.
 
 Output (--out DIR): DIR/summary.csv (one row per record: file, status, error, conditions,
-parameters with standard errors, cause, delta_bic, effect, ...), DIR/summary.svg (a, b, Dc
+parameters with standard errors, cause, delta_bic, effect, ...), DIR/summary.parquet (the
+same table with typed columns), DIR/summary.svg (a, b, Dc
 against load-point velocity, normal stress and hold time), DIR/records/ (per-record JSON and
 HTML). A re-run skips records whose outputs are complete and whose record bytes, options and
 rsf version are unchanged (--force runs all). One failing record is reported and the rest go

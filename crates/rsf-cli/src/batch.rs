@@ -3,7 +3,8 @@
 //! (shared with Python's `fit_many`/`diagnose_many`); this file owns the files.
 //!
 //! Layout of `--out DIR`:
-//! - `DIR/summary.csv`, `DIR/summary.svg`: one row per record; parameters across conditions.
+//! - `DIR/summary.csv`, `DIR/summary.parquet`, `DIR/summary.svg`: one row per record (the
+//!   Parquet file with typed columns); parameters across conditions.
 //! - `DIR/records/KEY.fit.json`, `KEY.diagnosis.json`, `KEY.html`: each record's results
 //!   (KEY: the manifest's name, `/` → `__`).
 //! - `DIR/records/KEY.row.json` and `KEY.stamp`: the record's summary row, and what it was
@@ -13,7 +14,9 @@
 
 use crate::args::BatchArgs;
 use anyhow::{Context, Result, bail};
-use rsf_fit::batch::{Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv};
+use rsf_fit::batch::{
+    Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv, summary_table,
+};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
@@ -162,6 +165,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     d.check().map_err(|(c, e)| anyhow::anyhow!("--{}: {e}", c.replace('_', "-")))?;
     let dir = a.out.join("records");
     let (summary, figure) = (a.out.join("summary.csv"), a.out.join("summary.svg"));
+    let parquet = a.out.join("summary.parquet");
     // no output may be an input: a record listed under the output folder's names is refused
     let mut files = crate::output::Files::default();
     if !a.input.is_dir() {
@@ -170,7 +174,11 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     for e in &entries {
         files = files.input("record", &e.path);
     }
-    files.output("summary", Some(&summary)).output("figure", Some(&figure)).check()?;
+    files
+        .output("summary", Some(&summary))
+        .output("summary", Some(&parquet))
+        .output("figure", Some(&figure))
+        .check()?;
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = if a.jobs == 0 { cores } else { a.jobs }.min(entries.len()).max(1);
@@ -205,6 +213,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     bar.finish_and_clear();
     let rows: Vec<Row> = results.iter().map(|r| r.0.clone()).collect();
     crate::output::write_bytes(&summary, summary_csv(&rows))?;
+    crate::output::write_bytes(&parquet, crate::summary_parquet::summary_parquet(&summary_table(&rows))?)?;
     crate::output::write_bytes(&figure, crate::plot::batch(&rows)?)?;
     let reused = results.iter().filter(|r| r.1).count();
     let failed: Vec<&Row> = rows.iter().filter(|r| r.status != Status::Ok).collect();
@@ -218,7 +227,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     for r in &failed {
         text += &format!("  {}: {}: {}\n", r.file, r.status.text(), r.error);
     }
-    text += &format!("summary: {}\nfigure: {}\n", summary.display(), figure.display());
+    text += &format!("summary: {} (and {})\nfigure: {}\n", summary.display(), parquet.display(), figure.display());
     crate::write_stdout(&text)?;
     if !failed.is_empty() {
         bail!("{} of {} records failed (each named above and in {})", failed.len(), rows.len(), summary.display());

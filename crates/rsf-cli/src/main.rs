@@ -10,6 +10,7 @@ mod batch;
 mod fit;
 mod output;
 mod plot;
+mod summary_parquet;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command};

@@ -57,6 +57,36 @@ fn cell<'a>(rows: &'a [Vec<String>], file: &str, col: &str) -> &'a str {
     &rows.iter().find(|r| r[0] == file).unwrap_or_else(|| panic!("no row {file}"))[j]
 }
 
+/// `summary.parquet` holds the CSV's table, typed: every cell read back equals the CSV's (numbers
+/// bit for bit, counts as integers, text as UTF-8), an empty CSV cell is a null.
+fn parquet_is_the_csv(dir: &Path, csv: &[Vec<String>]) {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let file = std::fs::File::open(dir.join("out/summary.parquet")).unwrap();
+    let reader = SerializedFileReader::new(file).unwrap();
+    let names: Vec<String> =
+        reader.metadata().file_metadata().schema_descr().columns().iter().map(|c| c.name().to_string()).collect();
+    assert_eq!(names, csv[0]);
+    let rows: Vec<parquet::record::Row> = reader.into_iter().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), csv.len() - 1);
+    for (row, want) in rows.iter().zip(&csv[1..]) {
+        for ((name, field), cell) in row.get_column_iter().zip(want) {
+            match field {
+                Field::Null => assert!(cell.is_empty(), "{name}: null for `{cell}`"),
+                Field::Double(x) => assert_eq!(*x, cell.parse::<f64>().unwrap(), "{name}"),
+                Field::Long(n) => assert_eq!(n.to_string(), *cell, "{name}"),
+                Field::Str(s) => assert_eq!(s, cell, "{name}"),
+                other => panic!("{name}: unexpected {other:?}"),
+            }
+        }
+    }
+    // the kinds: a count, a number, text
+    let kind = |c: &str| rows[0].get_column_iter().find(|(n, _)| *n == c).map(|(_, f)| f.clone()).unwrap();
+    assert!(matches!(kind("samples"), Field::Long(_)));
+    assert!(matches!(kind("a"), Field::Double(_)));
+    assert!(matches!(kind("status"), Field::Str(_)));
+}
+
 #[test]
 fn a_lab_archive_fitted_and_diagnosed_resumed_and_rerun_where_changed() {
     let d = lab();
@@ -88,6 +118,7 @@ fn a_lab_archive_fitted_and_diagnosed_resumed_and_rerun_where_changed() {
         assert!(recs.join(f).is_file(), "{f}");
     }
     assert!(std::fs::read_to_string(p.join("out/summary.svg")).unwrap().contains("<svg"));
+    parquet_is_the_csv(p, &rows);
 
     // the same work as `rsf fit` on the one record with the same options
     let fit_json = p.join("fit.json");
@@ -107,9 +138,11 @@ fn a_lab_archive_fitted_and_diagnosed_resumed_and_rerun_where_changed() {
     // a re-run: every complete record reused, the table byte for byte the same; the failed
     // record is tried again
     let first = std::fs::read(p.join("out/summary.csv")).unwrap();
+    let first_parquet = std::fs::read(p.join("out/summary.parquet")).unwrap();
     let out = batch(p, &["--fit", "--diagnose"]);
     assert!(text(&out).contains("3 ok (3 reused from an earlier run), 1 failed"), "{}", text(&out));
     assert_eq!(std::fs::read(p.join("out/summary.csv")).unwrap(), first);
+    assert_eq!(std::fs::read(p.join("out/summary.parquet")).unwrap(), first_parquet);
 
     // one option changed for one record: that record alone runs again
     let m = std::fs::read_to_string(p.join("manifest.csv")).unwrap();

@@ -16,5 +16,5 @@ mod row;
 mod work;
 
 pub use manifest::{Column, Entry, RecordOptions, folder_entries, read_manifest};
-pub use row::{Param, Row, Status, summary_csv};
+pub use row::{Cell, CellKind, Param, Row, Status, SummaryTable, summary_csv, summary_table};
 pub use work::{FIT_STARTS, Job, Outcome, run_entry};

@@ -120,22 +120,29 @@ impl Row {
     }
 }
 
-/// The fixed columns before the parameters.
-const HEAD: [&str; 11] = [
-    "file",
-    "status",
-    "error",
-    "samples",
-    "duration_s",
-    "v_lp_min_um_s",
-    "v_lp_max_um_s",
-    "longest_hold_s",
-    "normal_stress_mpa",
-    "laws",
-    "rms",
+/// The fixed columns before the parameters, and their kinds.
+const HEAD: [(&str, CellKind); 11] = [
+    ("file", CellKind::Text),
+    ("status", CellKind::Text),
+    ("error", CellKind::Text),
+    ("samples", CellKind::Count),
+    ("duration_s", CellKind::Number),
+    ("v_lp_min_um_s", CellKind::Number),
+    ("v_lp_max_um_s", CellKind::Number),
+    ("longest_hold_s", CellKind::Number),
+    ("normal_stress_mpa", CellKind::Number),
+    ("laws", CellKind::Text),
+    ("rms", CellKind::Number),
 ];
-/// The fixed columns after the parameters.
-const TAIL: [&str; 6] = ["cause", "delta_bic", "rms_ratio", "effect", "runner_up", "drift_rms"];
+/// The fixed columns after the parameters, and their kinds.
+const TAIL: [(&str, CellKind); 6] = [
+    ("cause", CellKind::Text),
+    ("delta_bic", CellKind::Number),
+    ("rms_ratio", CellKind::Number),
+    ("effect", CellKind::Text),
+    ("runner_up", CellKind::Text),
+    ("drift_rms", CellKind::Number),
+];
 
 /// The order of parameter columns: mu0, a, then b_i and Dc_i state by state, then the laws'
 /// own parameters and α by name, then k and g (the machine and the trend last).
@@ -154,15 +161,54 @@ fn param_order(name: &str) -> (u32, String) {
     }
 }
 
-fn num(x: Option<f64>) -> String {
-    x.map_or(String::new(), |v| format!("{v}"))
+/// One cell of the summary table, typed: text, a number, or a count.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cell {
+    /// Text (empty: none).
+    Text(String),
+    /// A number (`None`: none).
+    Number(Option<f64>),
+    /// A count (`None`: none).
+    Count(Option<u64>),
+}
+
+impl Cell {
+    /// As written in `summary.csv`: numbers in full (shortest round-trip form), none as empty.
+    pub fn text(&self) -> String {
+        match self {
+            Cell::Text(t) => t.clone(),
+            Cell::Number(x) => x.map_or(String::new(), |v| format!("{v}")),
+            Cell::Count(n) => n.map_or(String::new(), |v| v.to_string()),
+        }
+    }
+}
+
+/// What a column of the summary holds (every cell of it is of this kind).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CellKind {
+    /// Text.
+    Text,
+    /// Numbers (f64).
+    Number,
+    /// Counts (u64).
+    Count,
+}
+
+/// The summary table: header, the kind of each column, and the rows' cells.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SummaryTable {
+    /// Column names.
+    pub header: Vec<String>,
+    /// Each column's kind.
+    pub kinds: Vec<CellKind>,
+    /// One row of cells per record.
+    pub rows: Vec<Vec<Cell>>,
 }
 
 /// The summary table: one row per record, in the order given; the parameter columns are the
 /// union over the records (`NAME` and `NAME_se`), the `meta_…` columns in order of first
-/// appearance. Numbers are written in full (shortest round-trip form), so the table is the
-/// same wherever the rows were computed.
-pub fn summary_csv(rows: &[Row]) -> String {
+/// appearance.
+pub fn summary_table(rows: &[Row]) -> SummaryTable {
     let mut params: Vec<String> = vec![];
     let mut metas: Vec<String> = vec![];
     for r in rows {
@@ -178,28 +224,38 @@ pub fn summary_csv(rows: &[Row]) -> String {
         }
     }
     params.sort_by_key(|p| param_order(p));
-    let mut w = csv::Writer::from_writer(vec![]);
-    let mut header: Vec<String> = HEAD.iter().map(|s| s.to_string()).collect();
-    for p in &params {
-        header.push(p.clone());
-        header.push(format!("{p}_se"));
+    let text = |s: &str| Cell::Text(s.to_string());
+    let num = Cell::Number;
+    let mut out = SummaryTable { header: vec![], kinds: vec![], rows: vec![] };
+    let mut col = |name: String, kind: CellKind| {
+        out.header.push(name);
+        out.kinds.push(kind);
+    };
+    for (name, kind) in HEAD {
+        col(name.to_string(), kind);
     }
-    header.extend(TAIL.iter().map(|s| s.to_string()));
-    header.extend(metas.iter().cloned());
-    // writing to a Vec cannot fail
-    let _ = w.write_record(&header);
+    for p in &params {
+        col(p.clone(), CellKind::Number);
+        col(format!("{p}_se"), CellKind::Number);
+    }
+    for (name, kind) in TAIL {
+        col(name.to_string(), kind);
+    }
+    for m in &metas {
+        col(m.clone(), CellKind::Text);
+    }
     for r in rows {
         let mut cells = vec![
-            r.file.clone(),
-            r.status.text().to_string(),
-            r.error.clone(),
-            r.samples.map_or(String::new(), |n| n.to_string()),
+            text(&r.file),
+            text(r.status.text()),
+            text(&r.error),
+            Cell::Count(r.samples.map(|n| n as u64)),
             num(r.duration_s),
             num(r.v_lp_min_um_s),
             num(r.v_lp_max_um_s),
             num(r.longest_hold_s),
             num(r.normal_stress_mpa),
-            r.laws.clone().unwrap_or_default(),
+            text(r.laws.as_deref().unwrap_or_default()),
             num(r.rms),
         ];
         for name in &params {
@@ -208,17 +264,30 @@ pub fn summary_csv(rows: &[Row]) -> String {
             cells.push(num(p.and_then(|p| p.stderr)));
         }
         cells.extend([
-            r.cause.clone().unwrap_or_default(),
+            text(r.cause.as_deref().unwrap_or_default()),
             num(r.delta_bic),
             num(r.rms_ratio),
-            r.effect.clone().unwrap_or_default(),
-            r.runner_up.clone().unwrap_or_default(),
+            text(r.effect.as_deref().unwrap_or_default()),
+            text(r.runner_up.as_deref().unwrap_or_default()),
             num(r.drift_rms),
         ]);
         for m in &metas {
-            cells.push(r.meta.iter().find(|(k, _)| k == m).map(|(_, v)| v.clone()).unwrap_or_default());
+            cells.push(text(r.meta.iter().find(|(k, _)| k == m).map_or("", |(_, v)| v.as_str())));
         }
-        let _ = w.write_record(&cells);
+        out.rows.push(cells);
+    }
+    out
+}
+
+/// The summary table as CSV ([`summary_table`]). Numbers are written in full (shortest
+/// round-trip form), so the table is the same wherever the rows were computed.
+pub fn summary_csv(rows: &[Row]) -> String {
+    let t = summary_table(rows);
+    let mut w = csv::Writer::from_writer(vec![]);
+    // writing to a Vec cannot fail
+    let _ = w.write_record(&t.header);
+    for r in &t.rows {
+        let _ = w.write_record(r.iter().map(Cell::text));
     }
     String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
 }
