@@ -30,6 +30,7 @@
 //! | `evidence.rs` | residual statistics, n_eff, reload-slope stiffness, ΔBIC/ΔAIC |
 //! | `noise.rs` | the residuals' noise model: spectrum fit, likelihood, synthesis |
 //! | `sampling.rs` | the noise model in time of a variably sampled record (state-space likelihood) |
+//! | `whittle.rs` | Whittle's likelihood of a three-part spectrum: periodogram, amplitudes, standard errors |
 //! | `starts.rs` | fits of an extension from a nested optimum (and the Vc profile) |
 //! | `heldout.rs` | the held-out test: split, training part, prediction |
 //! | `timing.rs` | samples the protocol's break-time uncertainty cannot predict, left out |
@@ -56,6 +57,7 @@ mod run;
 mod sampling;
 mod starts;
 mod timing;
+mod whittle;
 
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};

@@ -15,9 +15,10 @@
 //!
 //! **Estimate.** The record is cut into stretches of one interval (within
 //! [`SAME_INTERVAL`]); stretches of one interval are pooled; each stretch's periodogram is
-//! taken with a taper ([`TAPER_SHARE`]) and each pool's, binned in log frequency, is fitted by
-//! Whittle's likelihood with the pool's own basis — the uniform model's amplitude scoring
-//! ([`super::noise`]), on a grid of β and τ refined by golden sections. The slowest
+//! taken with a taper ([`super::whittle::TAPER_SHARE`]) and each pool's, binned in log
+//! frequency, is fitted by Whittle's likelihood with the pool's own basis — the uniform
+//! model's amplitude scoring ([`super::whittle`]), on a grid of β and τ refined by golden
+//! sections. The slowest
 //! frequencies, between stretches, come from the whole record sub-sampled at the longest
 //! interval, below the lowest frequency any stretch resolves.
 //!
@@ -33,10 +34,8 @@
 
 use rand_distr::{Distribution, StandardNormal};
 
-use super::noise::{
-    BETAS, MAX_DRIFT_GRID, NoiseModel, NoiseStderr, SINGLE_BINS, VariableSampling, amplitude_stderr, amplitudes,
-    ar1_shape, grid_stderr, periodogram, power_law_variance,
-};
+use super::noise::{BETAS, MAX_DRIFT_GRID, NoiseModel, NoiseStderr, SINGLE_BINS, VariableSampling};
+use super::whittle::{amplitude_stderr, amplitudes, ar1_shape, grid_stderr, power_law_variance, tapered_periodogram};
 
 /// Intervals within this relative distance of a stretch's first interval belong to it: wide
 /// enough for a logger's clock jitter (±1–2 %), narrow enough to split 100 Hz from 50 Hz.
@@ -49,9 +48,6 @@ const MIN_STRETCH: usize = 32;
 /// Bins grow by this factor in a pool's periodogram above its [`SINGLE_BINS`] lowest ordinates
 /// (coarser than the uniform model's: a record has several pools).
 const POOL_BIN_GROWTH: f64 = 1.12;
-/// The share of a stretch tapered at each end before its periodogram (a Tukey window of 20 %:
-/// its variance inflation is 1.1, its sidelobes fall as 1/f³).
-const TAPER_SHARE: f64 = 0.1;
 /// Correlation times tried for the OU part: this many, log-spaced from half the shortest
 /// interval to a tenth of the span.
 const TAU_POINTS: usize = 14;
@@ -177,26 +173,6 @@ fn pools(r: &[f64], times: &[f64], st: &[Stretch]) -> Vec<Pool> {
         }
     }
     out
-}
-
-/// The periodogram of `x` (mean removed) after a split cosine bell taper of
-/// [`TAPER_SHARE`] at each end, normalised by Σw² so that white noise keeps its level; and the
-/// worth of one ordinate in independent ordinates, (Σw²)²/(n Σw⁴). The taper keeps a short
-/// stretch's lowest ordinates from the leakage of the steep spectrum below them (a rectangular
-/// window's sidelobes fall as 1/f² only; in a 8 s burst of OU noise with τ = 3 s they read as
-/// drift).
-fn tapered_periodogram(x: &[f64]) -> (Vec<f64>, f64) {
-    let n = x.len();
-    let mean = x.iter().sum::<f64>() / n as f64;
-    let edge = ((n as f64 * TAPER_SHARE).round() as usize).max(1);
-    let w = |i: usize| -> f64 {
-        let k = i.min(n - 1 - i);
-        if k >= edge { 1.0 } else { 0.5 * (1.0 - (std::f64::consts::PI * (k as f64 + 0.5) / edge as f64).cos()) }
-    };
-    let (s2, s4) = (0..n).fold((0.0, 0.0), |(a, b), i| (a + w(i).powi(2), b + w(i).powi(4)));
-    let y: Vec<f64> = x.iter().enumerate().map(|(i, v)| (v - mean) * w(i)).collect();
-    let p = periodogram(&y).into_iter().map(|v| v * n as f64 / s2).collect();
-    (p, s2 * s2 / (n as f64 * s4))
 }
 
 /// Bins periodogram ordinates (frequency in cycles per sample, power, worth in independent
@@ -509,130 +485,5 @@ pub(super) fn synthesize<R: rand::Rng + ?Sized>(m: &NoiseModel, times: &[f64], r
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::SeedableRng;
-    use rand_chacha::ChaCha8Rng;
-
-    /// A lab's variable sampling: 100 Hz for 8 s after each of `events` changes, then 2 Hz for
-    /// 300 s — 800 + 600 samples per event.
-    fn lab_times(events: usize) -> Vec<f64> {
-        let mut t = vec![];
-        let mut t0 = 0.0;
-        for _ in 0..events {
-            t.extend((0..800).map(|i| t0 + 0.01 * i as f64));
-            t.extend((0..600).map(|i| t0 + 8.0 + 0.5 * i as f64));
-            t0 += 308.0;
-        }
-        t
-    }
-
-    fn normals(n: usize, seed: u64) -> Vec<f64> {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        (0..n).map(|_| StandardNormal.sample(&mut rng)).collect()
-    }
-
-    /// OU noise by its exact recursion at the sample times — the generator the records
-    /// used, not this module's synthesis.
-    fn ou(times: &[f64], s: f64, tau: f64, seed: u64) -> Vec<f64> {
-        let z = normals(times.len(), seed);
-        let mut e = vec![s * z[0]; times.len()];
-        for i in 1..times.len() {
-            let phi = (-(times[i] - times[i - 1]) / tau).exp();
-            e[i] = phi * e[i - 1] + s * (1.0 - phi * phi).sqrt() * z[i];
-        }
-        e
-    }
-
-    #[test]
-    fn stretches_split_at_a_change_of_interval_and_tolerate_jitter() {
-        let mut t = lab_times(3);
-        for (i, x) in t.iter_mut().enumerate() {
-            *x += 1e-4 * ((i * 7919) % 13) as f64 / 13.0; // ±1 % of 0.01 s
-        }
-        let st = stretches(&t);
-        assert!(is_variable(&t));
-        let long: Vec<_> = st.iter().filter(|s| s.len >= MIN_STRETCH).collect();
-        assert_eq!(long.len(), 6, "{st:?}");
-        assert!(long.iter().all(|s| (s.dt - 0.01).abs() < 1e-4 || (s.dt - 0.5).abs() < 1e-3), "{long:?}");
-        let uniform: Vec<f64> = (0..5000).map(|i| 0.1 * i as f64).collect();
-        assert!(!is_variable(&uniform));
-    }
-
-    /// The case: AR(1) noise in time (τ = 3 s) on variable sampling is not drift, and
-    /// its information for a slow effect is far above the index model's collapse to n_eff ≈ 2.
-    #[test]
-    fn ou_noise_on_variable_sampling_is_ou_not_drift() {
-        let t = lab_times(12);
-        let r = ou(&t, 2e-4, 3.0, 1);
-        let m = NoiseModel::fit_at(&r, &t).0;
-        assert!(m.sampling.is_some());
-        assert!(m.drift_share < 0.15, "{m:?}");
-        assert!(m.ar1_tau_s > 1.5 && m.ar1_tau_s < 6.0, "τ {}", m.ar1_tau_s);
-        // about 1 + T/(2τ) = 617 independent values for a constant offset (the OU part's
-        // information does not grow with the sampling rate)
-        assert!(m.n_effective > 300.0 && m.n_effective < 1_200.0, "n_eff {}", m.n_effective);
-        // the index model of the same residuals reads drift
-        let index = NoiseModel::fit(&r, median_interval(&t));
-        assert!(index.n_effective < 0.2 * m.n_effective, "{} vs {}", index.n_effective, m.n_effective);
-    }
-
-    /// A random walk in time on white noise is found as drift (β near 2), with little
-    /// information for a slow effect.
-    #[test]
-    fn drift_in_time_on_variable_sampling_is_drift() {
-        let t = lab_times(12);
-        let w: Vec<f64> = normals(t.len(), 2).iter().map(|z| 2e-4 * z).collect();
-        let z = normals(t.len(), 3);
-        let mut walk = 0.0;
-        let r: Vec<f64> = (0..t.len())
-            .map(|i| {
-                if i > 0 {
-                    walk += 3e-6 * (t[i] - t[i - 1]).sqrt() * z[i];
-                }
-                w[i] + walk
-            })
-            .collect();
-        let m = NoiseModel::fit_at(&r, &t).0;
-        assert!(m.drift_amplitude > 0.0 && m.drift_beta >= 1.4, "{m:?}");
-        let mean = r.iter().sum::<f64>() / r.len() as f64;
-        let var: f64 = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / r.len() as f64;
-        let var_w = 4e-8;
-        assert!(m.drift_share > 0.3 * (var - var_w) / var, "share {} vs {}", m.drift_share, (var - var_w) / var);
-        assert!(m.n_effective < 0.05 * t.len() as f64, "{}", m.n_effective);
-    }
-
-    /// The Kalman likelihood of white noise under a white model is the Gaussian one.
-    #[test]
-    fn the_state_space_likelihood_of_white_noise_is_gaussian() {
-        let t = lab_times(2);
-        let r: Vec<f64> = normals(t.len(), 4).iter().map(|z| 3e-4 * z).collect();
-        let mut m = NoiseModel::white(9e-8, r.len(), 0.01);
-        m.sampling = Some(VariableSampling {
-            stretches: 4,
-            intervals: 2,
-            interval_range_s: [0.01, 0.5],
-            samples_in_stretches: r.len(),
-            span_s: t[t.len() - 1],
-            drift_time_constants_s: vec![],
-        });
-        let mean = r.iter().sum::<f64>() / r.len() as f64;
-        let ss: f64 = r.iter().map(|x| (x - mean).powi(2)).sum();
-        let expect = -0.5 * (r.len() as f64 * 9e-8f64.ln() + ss / 9e-8);
-        assert!((m.log_likelihood_at(&r, &t) - expect).abs() < 1e-6 * expect.abs());
-    }
-
-    /// Replicates drawn in time from a fitted model give back its parts.
-    #[test]
-    fn synthesis_in_time_reproduces_the_model() {
-        let t = lab_times(12);
-        let r = ou(&t, 2e-4, 3.0, 5);
-        let m = NoiseModel::fit_at(&r, &t).0;
-        let x = m.synthesize_at(&t, &mut ChaCha8Rng::seed_from_u64(6));
-        let refit = NoiseModel::fit_at(&x, &t).0;
-        let total = |m: &NoiseModel| m.white_variance + m.ar1_variance;
-        assert!((total(&refit) / total(&m) - 1.0).abs() < 0.15, "{} {}", total(&refit), total(&m));
-        assert!((refit.ar1_tau_s / m.ar1_tau_s - 1.0).abs() < 0.3, "{} {}", refit.ar1_tau_s, m.ar1_tau_s);
-        assert!((refit.n_effective / m.n_effective - 1.0).abs() < 0.5, "{} {}", refit.n_effective, m.n_effective);
-    }
-}
+#[path = "sampling_tests.rs"]
+mod tests;
