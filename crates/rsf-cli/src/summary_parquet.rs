@@ -32,47 +32,27 @@ pub fn summary_parquet(t: &SummaryTable) -> Result<Vec<u8>> {
     let mut group = w.next_row_group()?;
     let mut j = 0;
     while let Some(mut col) = group.next_column()? {
-        let cells = t.rows.iter().map(|r| &r[j]);
-        // definition level 1: a value; 0: a null
-        let mut def = vec![];
+        let cells: Vec<&Cell> = t.rows.iter().map(|r| &r[j]).collect();
         match t.kinds[j] {
             CellKind::Number => {
-                let v: Vec<f64> = cells
-                    .filter_map(|c| {
-                        let x = match c {
-                            Cell::Number(x) => *x,
-                            Cell::Text(_) | Cell::Count(_) => None,
-                        };
-                        def.push(i16::from(x.is_some()));
-                        x
-                    })
-                    .collect();
+                let (v, def) = present(&cells, |c| match c {
+                    Cell::Number(x) => *x,
+                    Cell::Text(_) | Cell::Count(_) => None,
+                });
                 col.typed::<DoubleType>().write_batch(&v, Some(&def), None)?;
             }
             CellKind::Count => {
-                let v: Vec<i64> = cells
-                    .filter_map(|c| {
-                        let x = match c {
-                            Cell::Count(x) => x.and_then(|n| i64::try_from(n).ok()),
-                            Cell::Text(_) | Cell::Number(_) => None,
-                        };
-                        def.push(i16::from(x.is_some()));
-                        x
-                    })
-                    .collect();
+                let (v, def) = present(&cells, |c| match c {
+                    Cell::Count(x) => x.and_then(|n| i64::try_from(n).ok()),
+                    Cell::Text(_) | Cell::Number(_) => None,
+                });
                 col.typed::<Int64Type>().write_batch(&v, Some(&def), None)?;
             }
             CellKind::Text => {
-                let v: Vec<ByteArray> = cells
-                    .filter_map(|c| {
-                        let x = match c {
-                            Cell::Text(s) if !s.is_empty() => Some(ByteArray::from(s.as_bytes().to_vec())),
-                            Cell::Text(_) | Cell::Number(_) | Cell::Count(_) => None,
-                        };
-                        def.push(i16::from(x.is_some()));
-                        x
-                    })
-                    .collect();
+                let (v, def) = present(&cells, |c| match c {
+                    Cell::Text(s) if !s.is_empty() => Some(ByteArray::from(s.as_bytes().to_vec())),
+                    Cell::Text(_) | Cell::Number(_) | Cell::Count(_) => None,
+                });
                 col.typed::<ByteArrayType>().write_batch(&v, Some(&def), None)?;
             }
         }
@@ -82,4 +62,18 @@ pub fn summary_parquet(t: &SummaryTable) -> Result<Vec<u8>> {
     group.close()?;
     // writes the footer
     Ok(w.into_inner()?)
+}
+
+/// A column's values that are present, and its definition levels (1: a value, 0: a null).
+fn present<V>(cells: &[&Cell], value: impl Fn(&Cell) -> Option<V>) -> (Vec<V>, Vec<i16>) {
+    let mut def = Vec::with_capacity(cells.len());
+    let v = cells
+        .iter()
+        .filter_map(|c| {
+            let x = value(c);
+            def.push(i16::from(x.is_some()));
+            x
+        })
+        .collect();
+    (v, def)
 }

@@ -123,6 +123,20 @@ pub struct NoiseStderr {
     pub ar1_phi: f64,
 }
 
+impl NoiseStderr {
+    /// From the amplitudes' standard errors `se` (of amplitudes `a`) and the profile-curvature
+    /// errors of β and φ, each computed only when its part is in the model (NaN otherwise).
+    pub(super) fn of(se: [f64; 3], a: &[f64; 3], beta: impl FnOnce() -> f64, phi: impl FnOnce() -> f64) -> Self {
+        NoiseStderr {
+            white_variance: se[0],
+            ar1_variance: se[1],
+            drift_amplitude: se[2],
+            drift_beta: if a[2] > 0.0 { beta() } else { f64::NAN },
+            ar1_phi: if a[1] > 0.0 { phi() } else { f64::NAN },
+        }
+    }
+}
+
 /// The three spectral shapes at frequency `f` (cycles per sample) for `n` samples.
 fn basis(f: f64, n: f64, beta: f64, phi: f64) -> [f64; 3] {
     [1.0, ar1_shape(f, phi), (f * n).powf(-beta)]
@@ -214,13 +228,12 @@ impl NoiseModel {
             ar1_tau_s: if phi > 0.0 { -dt / phi.ln() } else { 0.0 },
             drift_amplitude: a[2],
             drift_beta: beta,
-            stderr: NoiseStderr {
-                white_variance: se[0],
-                ar1_variance: se[1],
-                drift_amplitude: se[2],
-                drift_beta: if a[2] > 0.0 { grid_stderr(&BETAS, &beta_profile, ib) } else { f64::NAN },
-                ar1_phi: if a[1] > 0.0 { grid_stderr(&PHIS, &phi_profile, ip) } else { f64::NAN },
-            },
+            stderr: NoiseStderr::of(
+                se,
+                &a,
+                || grid_stderr(&BETAS, &beta_profile, ib),
+                || grid_stderr(&PHIS, &phi_profile, ip),
+            ),
             variance: var,
             drift_share: (drift_var / var).clamp(0.0, 1.0),
             n_effective: (n as f64 * var / s1).clamp(2.0, n as f64),
