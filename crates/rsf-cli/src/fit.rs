@@ -65,7 +65,7 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     o.rtol = a.rtol;
     o.starts = a.starts;
     if a.every_sample {
-        o.bin_above = None;
+        o.bins = rsf_fit::fit::BinMeans::Off;
     }
     for i in &a.initial {
         let (n, v) = i.split_once('=').with_context(|| format!("--initial `{i}`: expected NAME=VALUE"))?;

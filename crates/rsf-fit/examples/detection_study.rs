@@ -86,6 +86,21 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["confidence"] = json!(d.confidence);
             r["reconstruction"] = json!(d.reconstruction.as_ref().map(|x| x.segment));
             r["spikes_removed"] = json!(d.spikes_removed.len());
+            // each calibrated candidate's null: its gain and the replicates' moments
+            r["nulls"] = json!(
+                d.candidates
+                    .iter()
+                    .filter_map(|c| c.null.as_ref().map(|n| json!({
+                        "cause": c.cause.as_str(),
+                        "dk": c.fit.as_ref().map(|f| f.n_free.saturating_sub(d.baseline.n_free)),
+                        "observed": n.gain_observed,
+                        "mean": n.gain_mean,
+                        "sd": n.gain_sd,
+                        "replicates": n.replicates,
+                        "p": n.false_alarm_probability,
+                    })))
+                    .collect::<Vec<_>>()
+            );
             r["false_alarm_probability"] = json!(
                 d.candidates
                     .iter()

@@ -35,10 +35,9 @@ pub struct SensSolution {
 /// Largest number of state variables for which sensitivities are compiled.
 pub const MAX_SENS_STATES: usize = 8;
 
-/// The augmented system over the `P` active parameters `cols` (columns of the full layout of
-/// `PF` = [`n_params`] entries). At constant normal stress the α columns are left out: their
-/// sensitivities are identically zero, and carrying them would only cost work and dilute the
-/// error norm.
+/// The augmented system over the `P` carried parameters `cols` (columns of the full layout of
+/// `PF` = [`n_params`] entries): the wanted ones whose sensitivity is not identically zero
+/// ([`carried`]). Every carried column costs a D-vector of equations and enters the error norm.
 struct SensOde<'a, const D: usize, const P: usize, const PF: usize, const DA: usize> {
     sys: SpringSlider<'a>,
     ln_v_max: f64,
@@ -127,62 +126,115 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
     }
 }
 
-/// Solves `problem` with [`AutoDopri5`] (Dopri5 above [`MAX_IMPLICIT_SENS_DIM`]) at `rtol` and returns friction and ∂mu/∂p at the
-/// output times. Classic friction form, finite stiffness, 1–8 state variables; `max_steps` is
-/// the integrator's step budget per piece of loading.
+/// The numbers of carried sensitivity columns compiled for `n` state variables (each size is one
+/// instantiation of the augmented system; a set of wanted columns is padded up to the next
+/// size). One and two states, the diagnosis's fits, get the small sizes: a baseline needs a, b
+/// and Dc only (μ0 moves no state), an extension one or two more.
+fn carried_sizes(n: usize) -> &'static [usize] {
+    match n {
+        1 => &[3, 4, 5, 7, 8],
+        2 => &[5, 6, 7, 10, 12],
+        3 => &[13, 16],
+        4 => &[16, 20],
+        5 => &[19, 24],
+        6 => &[22, 28],
+        7 => &[25, 32],
+        _ => &[28, 36],
+    }
+}
+
+/// Whether parameter `j`'s S column is identically zero for `model`: μ0 and the α at constant
+/// normal stress (they move no state), the law-parameter slot of a law without one.
+fn zero_column(model: &rsf_core::Model, alpha: bool, j: usize) -> bool {
+    if j < N_GLOBAL {
+        return j == 0 && !alpha;
+    }
+    let (i, k) = ((j - N_GLOBAL) / PER_STATE, (j - N_GLOBAL) % PER_STATE);
+    (k == 3 && !alpha) || (k == 2 && model.states[i].law.parameters().is_empty())
+}
+
+/// The S columns a solve carries: the wanted ones that are not identically zero, padded up
+/// to a compiled size by further columns in layout order (α last).
+fn carried(model: &rsf_core::Model, alpha: bool, wanted: &[bool]) -> Vec<usize> {
+    let pf = n_params(model.n_states());
+    let is_alpha = |j: usize| j >= N_GLOBAL && (j - N_GLOBAL) % PER_STATE == 3;
+    let mut cols: Vec<usize> = (0..pf).filter(|&j| wanted[j] && !zero_column(model, alpha, j)).collect();
+    let sizes = carried_sizes(model.n_states());
+    let target = sizes.iter().copied().find(|&s| s >= cols.len()).unwrap_or(pf);
+    let pad: Vec<usize> = (0..pf)
+        .filter(|&j| !is_alpha(j))
+        .chain((0..pf).filter(|&j| is_alpha(j)))
+        .filter(|j| !cols.contains(j))
+        .collect();
+    cols.extend(pad.into_iter().take(target - cols.len()));
+    cols.sort_unstable();
+    cols
+}
+
+/// Solves `problem` with [`AutoDopri5`] (Dopri5 above [`MAX_IMPLICIT_SENS_DIM`]) at `rtol` and
+/// returns friction and ∂mu/∂p at the output times for the parameters `wanted` (indexed as
+/// [`n_params`]; the others come out NaN unless their sensitivity is identically zero or came
+/// with a padded column). Classic friction form, finite stiffness, 1–8 state variables;
+/// `max_steps` is the integrator's step budget per piece of loading.
 pub fn solve_with_sensitivities(
     problem: &Problem,
     rtol: f64,
     atol: f64,
     max_steps: u64,
+    wanted: &[bool],
 ) -> Result<SensSolution, SolveError> {
     let pieces = problem.pieces()?;
     let alpha = rsf_core::normal_stress_varies(&pieces);
-    match problem.model.n_states() {
-        // <D, active P, full P, D (1 + P)>: α columns active only when σ varies
-        1 if alpha => run::<3, 8, 8, 27>(problem, &pieces, rtol, atol, max_steps),
-        1 => run::<3, 7, 8, 24>(problem, &pieces, rtol, atol, max_steps),
-        2 if alpha => run::<4, 12, 12, 52>(problem, &pieces, rtol, atol, max_steps),
-        2 => run::<4, 10, 12, 44>(problem, &pieces, rtol, atol, max_steps),
-        3 if alpha => run::<5, 16, 16, 85>(problem, &pieces, rtol, atol, max_steps),
-        3 => run::<5, 13, 16, 70>(problem, &pieces, rtol, atol, max_steps),
-        4 if alpha => run::<6, 20, 20, 126>(problem, &pieces, rtol, atol, max_steps),
-        4 => run::<6, 16, 20, 102>(problem, &pieces, rtol, atol, max_steps),
-        5 if alpha => run::<7, 24, 24, 175>(problem, &pieces, rtol, atol, max_steps),
-        5 => run::<7, 19, 24, 140>(problem, &pieces, rtol, atol, max_steps),
-        6 if alpha => run::<8, 28, 28, 232>(problem, &pieces, rtol, atol, max_steps),
-        6 => run::<8, 22, 28, 184>(problem, &pieces, rtol, atol, max_steps),
-        7 if alpha => run::<9, 32, 32, 297>(problem, &pieces, rtol, atol, max_steps),
-        7 => run::<9, 25, 32, 234>(problem, &pieces, rtol, atol, max_steps),
-        8 if alpha => run::<10, 36, 36, 370>(problem, &pieces, rtol, atol, max_steps),
-        8 => run::<10, 28, 36, 290>(problem, &pieces, rtol, atol, max_steps),
-        n => Err(SolveError::Input(format!(
+    let n = problem.model.n_states();
+    if !(1..=MAX_SENS_STATES).contains(&n) {
+        return Err(SolveError::Input(format!(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
-        ))),
+        )));
+    }
+    if wanted.len() != n_params(n) {
+        return Err(SolveError::Input(format!("{} wanted columns for {} parameters", wanted.len(), n_params(n))));
+    }
+    let cols = carried(&problem.model, alpha, wanted);
+    let a = (problem, &pieces[..], rtol, atol, max_steps, &cols[..]);
+    // <D, carried P, full P, D (1 + P)>
+    match (n, cols.len()) {
+        (1, 3) => run::<3, 3, 8, 12>(a),
+        (1, 4) => run::<3, 4, 8, 15>(a),
+        (1, 5) => run::<3, 5, 8, 18>(a),
+        (1, 7) => run::<3, 7, 8, 24>(a),
+        (1, _) => run::<3, 8, 8, 27>(a),
+        (2, 5) => run::<4, 5, 12, 24>(a),
+        (2, 6) => run::<4, 6, 12, 28>(a),
+        (2, 7) => run::<4, 7, 12, 32>(a),
+        (2, 10) => run::<4, 10, 12, 44>(a),
+        (2, _) => run::<4, 12, 12, 52>(a),
+        (3, 13) => run::<5, 13, 16, 70>(a),
+        (3, _) => run::<5, 16, 16, 85>(a),
+        (4, 16) => run::<6, 16, 20, 102>(a),
+        (4, _) => run::<6, 20, 20, 126>(a),
+        (5, 19) => run::<7, 19, 24, 140>(a),
+        (5, _) => run::<7, 24, 24, 175>(a),
+        (6, 22) => run::<8, 22, 28, 184>(a),
+        (6, _) => run::<8, 28, 28, 232>(a),
+        (7, 25) => run::<9, 25, 32, 234>(a),
+        (7, _) => run::<9, 32, 32, 297>(a),
+        (8, 28) => run::<10, 28, 36, 290>(a),
+        _ => run::<10, 36, 36, 370>(a),
     }
 }
 
+type RunArgs<'a> = (&'a Problem, &'a [rsf_core::Piece], f64, f64, u64, &'a [usize]);
+
 fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
-    problem: &Problem,
-    pieces: &[rsf_core::Piece],
-    rtol: f64,
-    atol: f64,
-    max_steps: u64,
+    (problem, pieces, rtol, atol, max_steps, carried): RunArgs,
 ) -> Result<SensSolution, SolveError> {
     debug_assert_eq!(DA, D * (1 + P));
     let model = &problem.model;
     debug_assert_eq!(PF, n_params(model.n_states()));
-    // the active columns: all, or all but the α of each state
+    debug_assert_eq!(carried.len(), P);
     let mut cols = [0usize; P];
-    let mut k = 0;
-    for j in 0..PF {
-        let is_alpha = j >= N_GLOBAL && (j - N_GLOBAL) % PER_STATE == 3;
-        if P == PF || !is_alpha {
-            cols[k] = j;
-            k += 1;
-        }
-    }
-    debug_assert_eq!(k, P);
+    cols.copy_from_slice(carried);
+    let alpha = rsf_core::normal_stress_varies(pieces);
     model.validate()?;
     if let Some(w) = pieces.windows(2).find(|w| w[1].sigma0 != w[0].sigma_end()) {
         // the step map's own derivatives are not carried; a measured σ is continuous anyway
@@ -213,7 +265,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
         n_params: PF,
         stats: StepStats::default(),
     };
-    // the S column of each full-layout parameter (None: identically zero)
+    // the S column of each full-layout parameter (None: identically zero, or not wanted)
     let mut col_of = [None; PF];
     for (c, &j) in cols.iter().enumerate() {
         col_of[j] = Some(c);
@@ -228,10 +280,14 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
         sol.mu.push(sys.stress(y));
         let _ = sys.stress_gradients(y, &mut gy, &mut gp);
         for j in 0..PF {
-            let through_y = col_of[j].map_or(0.0, |c| {
-                let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
-                gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
-            });
+            let through_y = match col_of[j] {
+                Some(c) => {
+                    let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
+                    gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
+                }
+                None if zero_column(model, alpha, j) => 0.0,
+                None => f64::NAN,
+            };
             sol.dmu.push(gp[j] + through_y);
         }
     };
@@ -256,181 +312,5 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
 pub const MAX_IMPLICIT_SENS_DIM: usize = 52;
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rsf_core::{Loading, Model, Segment, StateVariable};
-    use rsf_laws::{Aging, KatoTullis, Slip};
-
-    fn params(m: &Model) -> Vec<f64> {
-        m.parameter_vector()
-    }
-    fn rebuild(base: &Model, p: &[f64]) -> Model {
-        base.with_parameter_vector(p).unwrap()
-    }
-
-    /// The largest error of ∂mu/∂p_j from `s` against central differences of tight solves of
-    /// `mk(model)`, relative to the column's largest value, for the parameters `js`.
-    fn worst_errors(base: &Model, mk: &dyn Fn(Model) -> Problem, s: &SensSolution, js: &[usize]) -> Vec<(usize, f64)> {
-        let p = params(base);
-        let np = s.n_params;
-        js.iter()
-            .filter(|&&j| p[j] != 0.0)
-            .map(|&j| {
-                let h = 1e-5 * p[j].abs();
-                let (mut pp, mut pm) = (p.clone(), p.clone());
-                pp[j] += h;
-                pm[j] -= h;
-                let fp = rsf_solvers::solve(&mk(rebuild(base, &pp)), &rsf_solvers::Dopri5::new(1e-12, 1e-15)).unwrap();
-                let fm = rsf_solvers::solve(&mk(rebuild(base, &pm)), &rsf_solvers::Dopri5::new(1e-12, 1e-15)).unwrap();
-                let scale = (0..s.mu.len()).map(|r| s.dmu[r * np + j].abs()).fold(0.0, f64::max).max(1e-9);
-                let worst = (0..s.mu.len())
-                    .map(|r| ((fp.mu[r] - fm.mu[r]) / (2.0 * h) - s.dmu[r * np + j]).abs() / scale)
-                    .fold(0.0, f64::max);
-                (j, worst)
-            })
-            .collect()
-    }
-
-    /// ∂mu/∂p from the sensitivity equations agrees with central differences of tight
-    /// solves, for 1, 2 and 3 states (mixed laws, a law parameter) over a step–hold protocol.
-    #[test]
-    fn sensitivities_match_finite_differences() {
-        let models = vec![
-            Model::new(0.6, 1.0, 0.011, 0.02).with_state(StateVariable::new(Slip, 0.014, 3.0)),
-            Model::new(0.6, 1.0, 0.011, 0.02)
-                .with_state(StateVariable::new(Slip, 0.009, 3.0))
-                .with_state(StateVariable::new(Aging, 0.005, 30.0))
-                .with_slip_trend(1e-5),
-            Model::new(0.6, 1.0, 0.011, 0.02)
-                .with_state(StateVariable::new(Slip, 0.008, 3.0))
-                .with_state(StateVariable::new(Aging, 0.004, 30.0))
-                .with_state(StateVariable::new(KatoTullis { vc: 0.05 }, 0.003, 10.0)),
-        ];
-        for base in models {
-            // a long stretch at steady state first: y is at rest there and only error control on
-            // S keeps the sensitivity equations within the explicit method's stability limit
-            let segs = vec![
-                Segment::for_duration(1.0, 2000.0),
-                Segment::for_duration(10.0, 3.0),
-                Segment::for_duration(0.1, 60.0),
-                Segment::for_duration(0.0, 100.0),
-                Segment::for_duration(1.0, 20.0),
-            ];
-            let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
-            let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
-            let all: Vec<usize> = (0..s.n_params).collect();
-            for (j, worst) in worst_errors(&base, &mk, &s, &all) {
-                assert!(worst < 2e-4, "N = {}, parameter {j}: max rel error {worst:e}", base.n_states());
-            }
-        }
-    }
-
-    /// The same with a measured normal stress (ramps up and down, one during the hold) and
-    /// Linker–Dieterich α on both states: ∂mu/∂α_i and the others against central differences.
-    #[test]
-    fn sensitivities_follow_normal_stress_changes() {
-        let mut base = Model::new(0.6, 1.0, 0.011, 0.02)
-            .with_state(StateVariable::new(Slip, 0.009, 3.0).with_alpha(0.25))
-            .with_state(StateVariable::new(Aging, 0.005, 30.0).with_alpha(0.1))
-            .with_normal_stress(10.0);
-        base.slip_trend = 1e-5;
-        let segs = vec![
-            Segment::for_duration(1.0, 200.0),
-            Segment::for_duration(10.0, 3.0),
-            Segment::for_duration(0.1, 60.0),
-            Segment::for_duration(0.0, 100.0),
-            Segment::for_duration(1.0, 40.0),
-        ];
-        let sn = rsf_core::NormalStressRecord {
-            time: vec![0.0, 100.0, 102.0, 250.0, 300.0, 320.0, 403.0],
-            sigma: vec![10.0, 10.0, 12.0, 12.0, 9.5, 9.5, 9.5],
-        };
-        let mk = |m: Model| {
-            let mut p = Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
-            p.normal_stress = Some(sn.clone());
-            p
-        };
-        let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS).unwrap();
-        let np = s.n_params;
-        let all: Vec<usize> = (0..np).collect();
-        for (j, worst) in worst_errors(&base, &mk, &s, &all) {
-            assert!(worst < 2e-4, "parameter {j}: max rel error {worst:e}");
-        }
-        // α matters: its column is far from zero
-        let ja = rsf_core::state_offset(0) + 3;
-        assert!((0..s.mu.len()).any(|r| s.dmu[r * np + ja].abs() > 1e-3));
-    }
-
-    /// A stiff machine (k = 10 /µm, Dc = 0.1 µm: the spring relaxes in a/(kV) ≈ 1e-4 s while
-    /// the state evolves over Dc/V = 0.01 s): the sensitivities follow `auto` into Rodas5P with
-    /// the augmented Jacobian, match finite differences, and need a fraction of the steps the
-    /// explicit method alone takes (for one and two states, with and without α columns).
-    #[test]
-    fn stiff_sensitivities_switch_to_the_implicit_method() {
-        let one = Model::new(0.6, 1.0, 0.01, 10.0).with_state(StateVariable::new(Slip, 0.014, 0.1));
-        let two = Model::new(0.6, 1.0, 0.01, 10.0)
-            .with_state(StateVariable::new(Slip, 0.009, 0.1))
-            .with_state(StateVariable::new(Aging, 0.005, 1.0));
-        let segs = vec![
-            Segment::for_duration(10.0, 5.0),
-            Segment::for_duration(0.0, 100.0),
-            Segment::for_duration(10.0, 5.0),
-            Segment::for_duration(1.0, 5.0),
-        ];
-        // the second model also under normal-stress ramps (during sliding and in the hold), so
-        // that the implicit stretches see a time-dependent augmented system (∂f/∂t)
-        let two = two.with_normal_stress(10.0);
-        let two = Model { states: two.states.iter().map(|s| s.clone().with_alpha(0.2)).collect(), ..two };
-        let sn = rsf_core::NormalStressRecord {
-            time: vec![0.0, 1.0, 3.0, 20.0, 40.0, 115.0],
-            sigma: vec![10.0, 10.0, 11.0, 11.0, 10.5, 10.5],
-        };
-        for base in [one, two] {
-            let ramps = base.normal_stress.is_some();
-            let mk = |m: Model| {
-                let mut p = Problem::new(m, Loading::Segments(segs.clone()), 10.0, 0.5);
-                if ramps {
-                    p.normal_stress = Some(sn.clone());
-                }
-                p
-            };
-            let s = solve_with_sensitivities(&mk(base.clone()), 1e-9, 1e-13, crate::fit::FIT_MAX_STEPS).unwrap();
-            let explicit = rsf_solvers::solve(&mk(base.clone()), &Dopri5::new(1e-9, 1e-13)).unwrap();
-            println!(
-                "N = {}: sensitivities {:?}; forward dopri5 {} steps",
-                base.n_states(),
-                s.stats,
-                explicit.stats.accepted
-            );
-            assert!(s.stats.to_implicit >= 2, "{:?}", s.stats);
-            assert!(
-                s.stats.accepted * 5 < explicit.stats.accepted,
-                "{} steps with sensitivities vs {} forward explicit",
-                s.stats.accepted,
-                explicit.stats.accepted
-            );
-            let all: Vec<usize> = (0..s.n_params).collect();
-            for (j, worst) in worst_errors(&base, &mk, &s, &all) {
-                assert!(worst < 1e-4, "N = {}, parameter {j}: max rel error {worst:e}", base.n_states());
-            }
-        }
-    }
-
-    /// The case that exposed uncontrolled sensitivities (basalt velstep7 with k free): steady
-    /// sliding at 100 µm/s, a step to 300 µm/s, 1 kHz output. ∂mu/∂ln Dc must match finite
-    /// differences (it was off by orders of magnitude when S was outside error control).
-    #[test]
-    fn sensitivities_stay_accurate_through_fast_steady_sliding() {
-        let base = Model::new(0.608, 100.0, 0.011, 0.0105).with_state(StateVariable::new(Slip, 0.012, 10.0));
-        let segs = vec![Segment::for_duration(100.0, 1.95), Segment::for_duration(300.0, 2.0)];
-        let mk = |m: Model| {
-            let mut p = Problem::new(m, Loading::Segments(segs.clone()), 100.0, 1.0);
-            p.output = rsf_solvers::OutputTimes::Times((0..3950).map(|i| i as f64 * 1e-3).collect());
-            p
-        };
-        let s = solve_with_sensitivities(&mk(base.clone()), 1e-7, 1e-11, crate::fit::FIT_MAX_STEPS).unwrap();
-        for (j, worst) in worst_errors(&base, &mk, &s, &[1, 2, 4, 5]) {
-            assert!(worst < 1e-3, "parameter {j}: max rel error {worst:e}");
-        }
-    }
-}
+#[path = "sens_tests.rs"]
+mod tests;

@@ -23,8 +23,11 @@ fn both(loading: LoadingMode, noise: Noise) -> (FitResult, FitResult, usize) {
     let rec = record(&truth, 1.0, &protocol, noise, 7).unwrap();
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     let o = FitOptions { loading, starts: 2, ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01) };
-    let full = FitOptions { bin_above: None, ..o.clone() };
-    let binned = FitOptions { bin_above: Some(10_000), ..o };
+    let full = FitOptions { bins: rsf_fit::fit::BinMeans::Off, ..o.clone() };
+    let binned = FitOptions {
+        bins: rsf_fit::fit::BinMeans::Replace { above: 10_000, fraction: rsf_fit::fit::BIN_FRACTION },
+        ..o
+    };
     let (pf, pb) = (prepare(&rec, &segs, &full).unwrap(), prepare(&rec, &segs, &binned).unwrap());
     assert!(pf.binning.is_none());
     let bins = pb.used.len();
@@ -87,7 +90,7 @@ fn mcmc_on_bin_means_has_the_samples_noise_and_intervals() {
     let o = FitOptions {
         loading: LoadingMode::Protocol,
         starts: 1,
-        bin_above: Some(10_000),
+        bins: rsf_fit::fit::BinMeans::Replace { above: 10_000, fraction: rsf_fit::fit::BIN_FRACTION },
         ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01)
     };
     let p = prepare(&rec, &segs, &o).unwrap();
@@ -100,4 +103,67 @@ fn mcmc_on_bin_means_has_the_samples_noise_and_intervals() {
     let ci = r.params["a"].ci95;
     let width = (ci[1] - ci[0]) / (2.0 * 1.96 * f.stderr["a"]);
     assert!((width - 1.0).abs() < 0.3, "a's 95% interval is {width} of the linearised one");
+}
+
+fn truth_and_record(seed: u64) -> (rsf_fit::data::Record, Vec<rsf_fit::segment::Segment>) {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Slip, 0.014, 10.0));
+    let protocol =
+        vec![(1.0, 50.0, 0.01), (10.0, 30.0, 0.01), (1.0, 80.0, 0.01), (0.0, 100.0, 0.01), (1.0, 60.0, 0.01)];
+    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 1e-4, tau: 0.0 }, seed).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    (rec, segs)
+}
+
+fn within_tenth_se(f: &FitResult, b: &FitResult) {
+    for (name, se) in &f.stderr {
+        let get = |r: &FitResult| r.params.as_initial().into_iter().find(|(n, _)| n.text() == *name).unwrap().1;
+        let d = (get(b) - get(f)).abs() / se;
+        assert!(d < 0.1, "{name}: {} against {}, {d} standard errors apart", get(b), get(f));
+    }
+}
+
+/// Samples left out at the start of the record (an excluded window) stay in the binned record,
+/// unused: a protocol-loading model's clock starts at the record's first sample, not at the
+/// first bin. Before, the bins dropped them and the protocol ran 20 s early: the fit on bins
+/// was off by many standard errors.
+#[test]
+fn bins_keep_the_record_clock_when_the_first_samples_are_left_out() {
+    let (rec, segs) = truth_and_record(5);
+    let t0 = rec.time[0];
+    let o = FitOptions {
+        loading: LoadingMode::Protocol,
+        starts: 2,
+        exclude: vec![(t0, t0 + 20.0)],
+        ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01)
+    };
+    let full = FitOptions { bins: rsf_fit::fit::BinMeans::Off, ..o.clone() };
+    let binned = FitOptions { bins: rsf_fit::fit::BinMeans::Replace { above: 1_000, fraction: 0.003 }, ..o };
+    let (pf, pb) = (prepare(&rec, &segs, &full).unwrap(), prepare(&rec, &segs, &binned).unwrap());
+    assert!(pf.used[0] > 0 && pb.binning.is_some());
+    assert_eq!(pb.record.time[0], pf.record.time[0], "the binned record starts where the record does");
+    within_tenth_se(&fit(&pf, &full).unwrap(), &fit(&pb, &binned).unwrap());
+}
+
+/// `BinMeans::Search` (the diagnosis's fits): the optimum sought on bin means, the result on
+/// every sample — the curve, the sample count and the likelihood are the samples', the
+/// parameters those of the fit on every sample within a tenth of a standard error, and the
+/// likelihood within 0.05 of its maximum (the fit on every sample maximises it).
+#[test]
+fn search_on_bins_reports_on_every_sample() {
+    let (rec, segs) = truth_and_record(9);
+    let o = FitOptions {
+        loading: LoadingMode::Protocol,
+        starts: 2,
+        ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01)
+    };
+    let full = FitOptions { bins: rsf_fit::fit::BinMeans::Off, ..o.clone() };
+    let search = FitOptions { bins: rsf_fit::fit::BinMeans::Search { above: 1_000, fraction: 0.003 }, ..o };
+    let p = prepare(&rec, &segs, &search).unwrap();
+    assert!(p.binning.is_none(), "Search leaves the prepared record as it is");
+    let (f, s) = (fit(&p, &full).unwrap(), fit(&p, &search).unwrap());
+    assert_eq!(s.bins, None);
+    assert_eq!((s.n, s.curve.model.len()), (f.n, f.curve.model.len()));
+    within_tenth_se(&f, &s);
+    let dll = f.log_likelihood - s.log_likelihood;
+    assert!((-1e-6..0.05).contains(&dll), "ln L {} vs {}", s.log_likelihood, f.log_likelihood);
 }

@@ -131,12 +131,27 @@ pub struct DiagnoseOptions {
     pub stage_times: bool,
 }
 
+/// The diagnosis's solver tolerance: friction to about 1e-6 of itself (6e-7 at μ 0.6), a
+/// hundredth of lab noise (1e-4), so that no ΔBIC moves by more than rounding; 1e-7 (`rsf fit`'s
+/// default) costs a quarter more integrator steps for no change in any verdict or score shown
+/// (docs/BENCHMARKS.md).
+pub const DIAGNOSE_RTOL: f64 = 1e-6;
+/// A diagnosis's fits search their optimum on bin means of a record of more than this many used
+/// samples (each result is then evaluated on every sample, `BinMeans::Search`).
+pub const SEARCH_BINS_ABOVE: usize = 5_000;
+/// The bins' span as a fraction of the time since their segment's start.
+pub const SEARCH_BIN_FRACTION: f64 = 0.003;
+
 impl DiagnoseOptions {
     /// Everything on: held-out test, per-segment refits, combinations, the null calibration
     /// (16 replicates, 1% level, seed 1), all cores, no progress.
+    /// Defaults around `fit`, whose solver tolerance and bins become the diagnosis's own
+    /// ([`DIAGNOSE_RTOL`]; the search on bin means of [`SEARCH_BINS_ABOVE`] and
+    /// [`SEARCH_BIN_FRACTION`]): set `fit.rtol` or `fit.bins` afterwards to change them.
     pub fn new(fit: FitOptions) -> Self {
+        let bins = crate::fit::BinMeans::Search { above: SEARCH_BINS_ABOVE, fraction: SEARCH_BIN_FRACTION };
         Self {
-            fit,
+            fit: FitOptions { rtol: DIAGNOSE_RTOL, bins, ..fit },
             heldout: true,
             per_segment: true,
             combinations: true,

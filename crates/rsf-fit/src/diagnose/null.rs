@@ -33,6 +33,12 @@ pub const FALSE_ALARM_LEVEL: f64 = 0.01;
 /// gives 0 to rounding, ~1e-7): half a unit of ln L, far above rounding, far below a real gain.
 const NEGATIVE_NULL_GAIN: f64 = 0.5;
 
+/// A replicate gain up to this is a collapse onto the baseline, not a gain: the refitted
+/// extension's likelihood differs from the baseline's by the solver's rounding only (±0.01 at
+/// the diagnosis's tolerance). Without it, whether a null whose other replicates lose counts
+/// as uninformative turned on the sign of a +1e-4 (the detection study's record 66).
+const COLLAPSED_NULL_GAIN: f64 = 0.05;
+
 /// Default number of bootstrap replicates: enough for the first two moments of the null gain
 /// to within about ±30%, which moves the tail probability at the 1% level by less than a
 /// factor 2; each costs a baseline and a candidate refit.
@@ -109,7 +115,7 @@ pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Optio
     // lowers the likelihood of its residuals under their own noise, so its gain is no likelihood
     // ratio and the replicates do not describe its null; the calibration is marked uninformative
     // and the candidate must show more evidence (`decide::ineligible`)
-    let uninformative = raw.iter().all(|&x| x <= 0.0) && raw.iter().any(|&x| x < -NEGATIVE_NULL_GAIN);
+    let uninformative = raw.iter().all(|&x| x <= COLLAPSED_NULL_GAIN) && raw.iter().any(|&x| x < -NEGATIVE_NULL_GAIN);
     let exceeded = g.iter().filter(|&&x| x >= observed).count();
     // c·χ²_d with mean c d and variance 2 c² d; a degenerate null (every replicate's gain 0:
     // its moments say nothing) falls back to the textbook χ²_dk
@@ -144,6 +150,9 @@ mod tests {
         let c = calibrate(41.1, &[Some(-15.7), Some(-8.6), Some(-6.9e-8), Some(-8.5)], 1).unwrap();
         assert_eq!(c.exceeded, 0);
         assert!(c.uninformative);
+        // a collapsed replicate that rounds to a hair above zero changes nothing (record 66)
+        let r = calibrate(169.4, &[Some(1e-4), Some(-2.4), Some(-14.6), Some(-14.0)], 1).unwrap();
+        assert!(r.uninformative);
         // a collapse onto the baseline (gains 0 to rounding: a parameter at its boundary) keeps
         // the textbook χ² of one parameter
         let z = calibrate(41.1, &[Some(0.0), Some(-1e-7), Some(0.0), Some(1e-9)], 1).unwrap();

@@ -13,7 +13,7 @@ use super::starts::slip_rate_range;
 use super::timing::timing_mask;
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
 use crate::data::{Record, isolated_spikes};
-use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
+use crate::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
 use crate::segment::Segment;
 
 /// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
@@ -79,8 +79,14 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // uniform weights: the likelihood of noise of one σ everywhere, as lab noise is, so that
     // ΔBIC has its nominal calibration (with segment weights a free parameter acting only in
     // sparsely sampled segments would gain about mean(w²) per parameter on pure noise)
-    // every sample: the noise model reads the residuals sample by sample
-    let o = FitOptions { weighting: Weighting::Uniform, bin_above: None, ..opts.fit.clone() };
+    // the optimum sought on bin means, each result evaluated on every sample: the noise model
+    // reads the residuals sample by sample
+    // (bins that would replace the samples search instead)
+    let bins = match opts.fit.bins {
+        BinMeans::Replace { above, fraction } => BinMeans::Search { above, fraction },
+        b @ (BinMeans::Off | BinMeans::Search { .. }) => b,
+    };
+    let o = FitOptions { weighting: Weighting::Uniform, bins, ..opts.fit.clone() };
     if o.laws.len() != 1 {
         return Err(FitError::Setup("the baseline has one state variable".into()));
     }

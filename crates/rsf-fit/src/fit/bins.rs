@@ -21,6 +21,7 @@
 
 use super::Prepared;
 use crate::data::Record;
+use crate::segment::Segment;
 
 /// Records with more used samples than this are fitted on bin means: below it, the fit on the
 /// samples takes a few seconds; above it, the time grows with the samples (10⁶ samples:
@@ -32,6 +33,48 @@ pub const BIN_ABOVE: usize = 100_000;
 /// the parameters moved by up to 0.2 standard errors from the fit on every sample, at 0.003 by
 /// at most 0.02, with 11,540 bins and the fit under a second.
 pub const BIN_FRACTION: f64 = 0.003;
+
+/// Whether a fit works on bin means, and what its result then describes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BinMeans {
+    /// Every sample is fitted.
+    Off,
+    /// A record of more than `above` used samples is replaced by bin means when it is prepared:
+    /// the optimum, the curve, the residuals and the covariance are the bins' (`rsf fit` on a
+    /// large record: nothing is ever evaluated on the 10⁷ samples).
+    Replace {
+        /// Used samples above which the record is binned.
+        above: usize,
+        /// A bin spans at most this fraction of the time since its segment's start.
+        fraction: f64,
+    },
+    /// The optimum is sought on bin means of a record of more than `above` used samples; the
+    /// result — curve, residuals, likelihood, covariance — is then evaluated on every sample at
+    /// that optimum (the diagnosis: its noise model reads the residuals sample by sample, and
+    /// the search is the part that repeats).
+    Search {
+        /// Used samples above which the search runs on bin means.
+        above: usize,
+        /// A bin spans at most this fraction of the time since its segment's start.
+        fraction: f64,
+    },
+}
+
+impl BinMeans {
+    /// The bin means [`super::fit`] searches on for `p` under this rule, when it searches on
+    /// bins rather than on `p` itself (a varying normal stress keeps every sample: its steps
+    /// fall inside segments).
+    pub(super) fn search_points(self, p: &Prepared) -> Option<Prepared> {
+        match self {
+            Self::Search { above, fraction }
+                if p.binning.is_none() && p.normal_stress.is_none() && p.used.len() > above =>
+            {
+                Some(bin(p, fraction))
+            }
+            Self::Search { .. } | Self::Replace { .. } | Self::Off => None,
+        }
+    }
+}
 
 /// What the bins of a binned [`Prepared`] summarise.
 #[derive(Clone, Debug)]
@@ -67,17 +110,38 @@ fn scatter(idx: &[usize], t: &[f64], y: &[f64], ym: f64) -> f64 {
     ss * (c - 1) as f64 / (c - 2) as f64
 }
 
-/// `p` with its used samples replaced by bin means (weights × √count).
-pub(super) fn bin(p: Prepared) -> Prepared {
+/// `p` with its used samples replaced by bin means (weights × √count), each bin spanning at
+/// most `fraction` of the time since its segment's start. The samples that are not used (before
+/// the first used one, in an excluded window) stay in the record as they are, unused: a
+/// record-loading model is driven through them, and a protocol-loading model keeps its clock
+/// at the record's first sample.
+pub(super) fn bin(p: &Prepared, fraction: f64) -> Prepared {
     let r = &p.record;
     let (mut time, mut lp, mut mu) = (vec![], vec![], vec![]);
-    let (mut counts, mut within, mut weights, mut seg_of) = (vec![], vec![], vec![], vec![]);
+    // the first original sample each new row stands for (increasing): maps segment bounds
+    let mut first_of: Vec<usize> = vec![];
+    let (mut used, mut counts, mut within, mut weights, mut seg_of) = (vec![], vec![], vec![], vec![], vec![]);
     let mut sum_ln_w = 0.0;
+    // the original samples not yet written: those before the next bin, when it is not the next
+    let mut raw_from = 0;
+    let raw = |from: usize,
+               until: usize,
+               time: &mut Vec<f64>,
+               lp: &mut Vec<f64>,
+               mu: &mut Vec<f64>,
+               first_of: &mut Vec<usize>| {
+        for i in from..until {
+            time.push(r.time[i]);
+            lp.push(r.load_point[i]);
+            mu.push(r.mu[i]);
+            first_of.push(i);
+        }
+    };
     let mut k = 0;
     while k < p.used.len() {
         let (i0, sg, w) = (p.used[k], p.seg_of[k], p.weights[k]);
         let t_seg = p.segments[sg].t0;
-        let span = BIN_FRACTION * (r.time[i0] - t_seg).max(0.0);
+        let span = fraction * (r.time[i0] - t_seg).max(0.0);
         // the sample after `e` continues `e`'s run: same segment, no gap
         let continues =
             |e: usize| e + 1 < p.used.len() && p.seg_of[e + 1] == p.seg_of[e] && p.used[e + 1] == p.used[e] + 1;
@@ -88,10 +152,13 @@ pub(super) fn bin(p: Prepared) -> Prepared {
         while e < p.used.len() && continues(e - 1) && continues(e) && r.time[p.used[e]] - r.time[i0] <= span {
             e += 1;
         }
+        raw(raw_from, i0, &mut time, &mut lp, &mut mu, &mut first_of);
         let c = (e - k) as f64;
         let idx = &p.used[k..e];
         let mean = |v: &[f64]| idx.iter().map(|&i| v[i]).sum::<f64>() / c;
         let m = mean(&r.mu);
+        used.push(time.len());
+        first_of.push(i0);
         time.push(mean(&r.time));
         lp.push(mean(&r.load_point));
         mu.push(m);
@@ -100,22 +167,12 @@ pub(super) fn bin(p: Prepared) -> Prepared {
         weights.push(w * c.sqrt());
         seg_of.push(sg);
         sum_ln_w += c * w.ln();
+        raw_from = p.used[e - 1] + 1;
         k = e;
     }
-    let n = time.len();
-    // segment ranges in the bins; a segment with no used sample keeps an empty range at its place
-    let mut segments = p.segments.clone();
-    for (j, s) in segments.iter_mut().enumerate() {
-        let first = seg_of.iter().position(|&g| g == j);
-        let last = seg_of.iter().rposition(|&g| g == j);
-        (s.i0, s.i1) = match (first, last) {
-            (Some(a), Some(b)) => (a, b),
-            _ => {
-                let at = seg_of.partition_point(|&g| g < j).min(n.saturating_sub(1));
-                (at, at)
-            }
-        };
-    }
+    raw(raw_from, r.time.len(), &mut time, &mut lp, &mut mu, &mut first_of);
+    let row_of = |i: usize| first_of.partition_point(|&f| f <= i).saturating_sub(1);
+    let segments = p.segments.iter().map(|s| Segment { i0: row_of(s.i0), i1: row_of(s.i1), ..s.clone() }).collect();
     let record = Record {
         time,
         load_point: lp,
@@ -129,10 +186,12 @@ pub(super) fn bin(p: Prepared) -> Prepared {
     Prepared {
         record,
         segments,
-        used: (0..n).collect(),
+        used,
         weights,
         seg_of,
         binning: Some(Binning { samples: p.used.len(), counts, within, sum_ln_w }),
-        ..p
+        v_init: p.v_init,
+        normal_stress: p.normal_stress.clone(),
+        sigma_ref: p.sigma_ref,
     }
 }

@@ -27,10 +27,12 @@ pub(super) fn evaluate(
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
     let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
-    let s = solve_with_sensitivities(&problem, rtol, rtol * 1e-4, FIT_MAX_STEPS)?;
-    let steps = s.stats.accepted + s.stats.rejected;
     let m = map.free.len();
     let dfull = map.jac(theta);
+    // the sensitivities the free parameters reach (a fixed k, g or Vc costs nothing)
+    let wanted: Vec<bool> = (0..np).map(|j| dfull[j * m..(j + 1) * m].iter().any(|&d| d != 0.0)).collect();
+    let s = solve_with_sensitivities(&problem, rtol, rtol * 1e-4, FIT_MAX_STEPS, &wanted)?;
+    let steps = s.stats.accepted + s.stats.rejected;
     let mut model_mu = s.mu;
     let mut raw_j = vec![0.0; model_mu.len() * m];
     for r in 0..model_mu.len() {
@@ -41,7 +43,7 @@ pub(super) fn evaluate(
         }
         for k in 0..m {
             let mut acc = 0.0;
-            for j in 0..np {
+            for j in (0..np).filter(|&j| wanted[j]) {
                 acc += s.dmu[r * np + j] * dfull[j * m + k];
             }
             if let Some(oi) = off_idx {

@@ -4,7 +4,8 @@ use super::covariance::{covariance, intervals};
 use super::forward::{evaluate, model_slip_rate};
 use super::params::within_bounds;
 use super::{
-    AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamName, Params, Prepared, SegmentRow, parameter_map,
+    AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamMap, ParamName, Params, Prepared, SegmentRow,
+    parameter_map,
 };
 use crate::lm::{self, Eval};
 use rsf_core::{n_params, state_offset};
@@ -13,8 +14,30 @@ use std::cell::Cell;
 use std::collections::BTreeMap;
 
 /// Fits the model to the prepared record: Levenberg–Marquardt from several starting points
-/// (the best optimum wins), under the work budget of `opts.budget`.
+/// (the best optimum wins), under the work budget of `opts.budget`. Under
+/// [`BinMeans::Search`](super::BinMeans::Search) the optimum is sought on bin means and the
+/// result evaluated on every sample of `p`.
 pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
+    let s = match opts.bins.search_points(p) {
+        Some(pb) => search(&pb, opts)?,
+        None => search(p, opts)?,
+    };
+    report(p, opts, s)
+}
+
+/// The optimum of a [`search`]: where it is, on which parameter map, and the work it took.
+struct Searched {
+    map: ParamMap,
+    best: lm::LmResult,
+    /// The budget that stopped the best start, if one did.
+    best_hit: Option<BudgetHit>,
+    /// Integrator steps of the whole search.
+    steps: u64,
+    starts: usize,
+}
+
+/// Levenberg–Marquardt from several starting points on the points of `p`.
+fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let map = parameter_map(p, opts)?;
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
@@ -149,8 +172,17 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
                 .unwrap_or_else(|| SolveError::Input("the step budget ran out before the first evaluation".into())),
         ));
     };
+    Ok(Searched { map, best, best_hit, steps: used.get(), starts: starts.len() })
+}
+
+/// The fit's result at the optimum `s`, evaluated on the points of `p`: curve, residuals,
+/// covariance, likelihood.
+fn report(p: &Prepared, opts: &FitOptions, s: Searched) -> Result<FitResult, FitError> {
+    let Searched { map, best, best_hit, steps, starts } = s;
+    let m = map.free.len();
+    let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
-    used.set(used.get() + e.steps);
+    let steps = steps + e.steps;
     let resid: Vec<f64> = e.model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
     // per sample: a bin mean stands for its count, and the scatter inside it is added back
     let n = p.samples();
@@ -248,8 +280,8 @@ pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
         iterations: best.iterations,
         stop_reason: best.reason,
         budget_hit: best_hit,
-        steps: used.get(),
-        starts: starts.len(),
+        steps,
+        starts,
         loading: opts.loading,
         weighting: opts.weighting,
         curve,

@@ -27,7 +27,7 @@ mod params;
 mod prepare;
 mod result;
 
-pub use bins::{BIN_ABOVE, BIN_FRACTION, Binning};
+pub use bins::{BIN_ABOVE, BIN_FRACTION, BinMeans, Binning};
 pub use forward::model_curve;
 pub use lsq::fit;
 pub use options::{

@@ -110,9 +110,10 @@ pub struct FitOptions {
     /// evaluation: every evaluation then fails, so the work winds down within one solve. The
     /// Python package sets it on KeyboardInterrupt.
     pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
-    /// Fit a record with more used samples than this on bin means carrying the same
-    /// information ([`super::Binning`]; default [`super::BIN_ABOVE`]); `None`: every sample.
-    pub bin_above: Option<usize>,
+    /// Whether a large record is fitted on bin means carrying the same information, and what
+    /// the result then describes ([`super::BinMeans`]; default: bin means above
+    /// [`super::BIN_ABOVE`] samples, [`super::BIN_FRACTION`]).
+    pub bins: super::BinMeans,
 }
 
 impl FitOptions {
@@ -202,7 +203,7 @@ impl FitOptions {
             normal_stress: NormalStressMode::Auto,
             alpha: AlphaFit::Fixed,
             cancel: None,
-            bin_above: Some(super::BIN_ABOVE),
+            bins: super::BinMeans::Replace { above: super::BIN_ABOVE, fraction: super::BIN_FRACTION },
         }
     }
 }

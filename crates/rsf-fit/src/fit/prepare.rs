@@ -145,9 +145,11 @@ pub fn prepare(record: &Record, segments: &[Segment], opts: &FitOptions) -> Resu
     };
     // a large record is fitted on bin means (a varying normal stress keeps every sample: its
     // steps fall inside segments)
-    Ok(match opts.bin_above {
-        Some(m) if p.used.len() > m && p.normal_stress.is_none() => super::bins::bin(p),
-        _ => p,
+    Ok(match opts.bins {
+        super::BinMeans::Replace { above, fraction } if p.used.len() > above && p.normal_stress.is_none() => {
+            super::bins::bin(&p, fraction)
+        }
+        super::BinMeans::Replace { .. } | super::BinMeans::Search { .. } | super::BinMeans::Off => p,
     })
 }
 
