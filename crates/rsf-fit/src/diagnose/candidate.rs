@@ -65,6 +65,9 @@ pub(super) struct Ctx<'a> {
     pub(super) t_split: f64,
     /// The baseline's held-out rms and training fit.
     pub(super) ho_base: Option<(f64, FitResult)>,
+    /// The noise fitted to the baseline's training residuals (the extensions' training gains
+    /// are scored against it).
+    pub(super) ho_base_noise: Option<Noisy>,
     /// Load-point noise about the protocol, µm, when it matters for the break times: the null
     /// replicates then re-segment their own noisy load point.
     pub(super) lp_noise: Option<f64>,
@@ -109,7 +112,8 @@ impl Ctx<'_> {
         tries
     }
 
-    /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`).
+    /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`),
+    /// with its residuals' fitted noise.
     pub(super) fn fit_cause(
         &self,
         pc_of: &dyn Fn(&FitOptions) -> Option<Prepared>,
@@ -118,7 +122,7 @@ impl Ctx<'_> {
         base: &FitResult,
         bn: &Noisy,
         threads: usize,
-    ) -> Option<(String, FitOptions, Prepared, FitResult)> {
+    ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy)> {
         self.variants(cause)
             .into_iter()
             .filter_map(|(ext, o)| {
@@ -128,7 +132,10 @@ impl Ctx<'_> {
                 // difference of laws, not a share of time-dependent healing
                 let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
                 let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
-                ok.then(|| (scores(base, bn, &f).0, (ext, o, pc, f)))
+                ok.then(|| {
+                    let en = noisy(&f);
+                    (scores(base, bn, &f, &en).0, (ext, o, pc, f, en))
+                })
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(_, v)| v)
@@ -153,9 +160,9 @@ impl Ctx<'_> {
     pub(super) fn candidate(&self, cause: Cause) -> Option<Candidate> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
         let threads = self.opts.threads;
-        let (extension, o, pc, f) =
+        let (extension, o, pc, f, nf) =
             self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, threads)?;
-        let (dbic, daic) = scores(&self.base, &self.base_noise, &f);
+        let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
         // the training part is smaller than the record: its fit gets a multiple of the full
         // fit's work (a training fit wandering into a stiff corner must not dominate the run)
         let ho_steps = ((HELDOUT_WORK_FACTOR * f.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
@@ -175,8 +182,8 @@ impl Ctx<'_> {
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
         // the extension's gain on the training part alone
-        let training_gain = match (&self.ho_base, &ho) {
-            (Some((_, ft_base)), Some((_, ft))) => Some(scores(ft_base, &noisy(ft_base), ft).0),
+        let training_gain = match (&self.ho_base, &self.ho_base_noise, &ho) {
+            (Some((_, ft_base)), Some(nt_base), Some((_, ft))) => Some(scores(ft_base, nt_base, ft, &noisy(ft)).0),
             _ => None,
         };
         Some(Candidate {
@@ -189,7 +196,7 @@ impl Ctx<'_> {
             heldout_rms_after: ho.as_ref().map(|h| h.0),
             heldout_training_gain: training_gain,
             heldout_uninformative: dbic < BLIND_DECISIVE && self.training_blind(cause, &f, training_gain),
-            drift_share_after: noisy(&f).model.drift_share,
+            drift_share_after: nf.model.drift_share,
             effect: effect_of(&[cause], &f),
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
@@ -247,12 +254,13 @@ impl Ctx<'_> {
     /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
     /// each refitted with the baseline and with the candidate from the replicate's baseline.
     pub(super) fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
-        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?);
         // the replicates' noise: fitted to the candidate's residuals, not the baseline's — the
         // baseline's hold its misfit too, which a noise model would read as drift and the null
         // would then reproduce (as the F test takes the larger model's residual variance); a
         // spurious candidate that absorbs drift leaves the rest of the drift in its residuals
-        let noise = noisy(c.fit.as_ref()?).model;
+        let nc = noisy(c.fit.as_ref()?);
+        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?, &nc);
+        let noise = nc.model;
         let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
         let one = |seed: &u64| -> Option<f64> {
             let seed = *seed;
@@ -278,8 +286,8 @@ impl Ctx<'_> {
             let fb = fit(&pb, &o).ok()?;
             let nb = noisy(&fb);
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
-            let (_, _, _, fc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1)?;
-            Some(gain(&fb, &nb, &fc))
+            let (_, _, _, fc, nc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1)?;
+            Some(gain(&fb, &nb, &fc, &nc))
         };
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
@@ -323,7 +331,7 @@ pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], leve
         // fit (no second Vc profile, no second search for a soft machine)
         let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
         let f = ctx.fit_best(&pc, &o, &from, threads)?;
-        let (dbic, _) = scores(f1, &nf1, &f);
+        let (dbic, _) = scores(f1, &nf1, &f, &noisy(&f));
         // held out: from the two training optima, never from a fit that saw the held-out part
         let ho = match (&c1.heldout_fit, &c2.heldout_fit, ctx.opts.heldout) {
             (Some(ft1), Some(ft2), true) => {

@@ -151,20 +151,19 @@ pub(super) fn noisy(f: &FitResult) -> Noisy {
     Noisy { model, ll }
 }
 
-/// ΔBIC and ΔAIC of `ext` against `base` (whose noise is `bn`): each with its own fitted noise
+/// ΔBIC and ΔAIC of `ext` (whose noise is `en`) against `base` (whose noise is `bn`): each with its own fitted noise
 /// (white, AR(1) and drift parts, [`NoiseModel`]), the Whittle log-likelihoods compared, the
 /// noise model's parameters counted with the friction model's. The likelihood being that of
 /// the correlated noise itself (not a white one rescaled), BIC's penalty per parameter is
 /// ln n of the samples.
-pub(super) fn scores(base: &FitResult, bn: &Noisy, ext: &FitResult) -> (f64, f64) {
-    let (dll, dk) = compare(base, bn, ext);
+pub(super) fn scores(base: &FitResult, bn: &Noisy, ext: &FitResult, en: &Noisy) -> (f64, f64) {
+    let (dll, dk) = compare(base, bn, ext, en);
     (-2.0 * dll + dk * (base.n.max(2) as f64).ln(), -2.0 * dll + 2.0 * dk)
 }
 
-/// Δln L of `ext` over `base` (each with its own fitted noise) and the parameters it adds,
-/// noise parameters included.
-pub(super) fn compare(base: &FitResult, bn: &Noisy, ext: &FitResult) -> (f64, f64) {
-    let en = noisy(ext);
+/// Δln L of `ext` over `base` (each with its own fitted noise, `en` and `bn`) and the
+/// parameters it adds, noise parameters included.
+pub(super) fn compare(base: &FitResult, bn: &Noisy, ext: &FitResult, en: &Noisy) -> (f64, f64) {
     let dk = (ext.n_free + en.model.parameters()) as f64 - (base.n_free + bn.model.parameters()) as f64;
     (en.ll - bn.ll, dk)
 }

@@ -94,10 +94,10 @@ pub(super) fn replicate_load_point(p: &Prepared, rec: &mut Record, sigma_x: f64,
     }
 }
 
-/// The gain G of `ext` over `base` (noise `bn`): the likelihood-ratio statistic 2 Δln L, each
-/// model with its own fitted noise.
-pub(super) fn gain(base: &FitResult, bn: &Noisy, ext: &FitResult) -> f64 {
-    2.0 * compare(base, bn, ext).0
+/// The gain G of `ext` (noise `en`) over `base` (noise `bn`): the likelihood-ratio statistic
+/// 2 Δln L, each model with its own fitted noise.
+pub(super) fn gain(base: &FitResult, bn: &Noisy, ext: &FitResult, en: &Noisy) -> f64 {
+    2.0 * compare(base, bn, ext, en).0
 }
 
 /// Calibrates the observed gain against the replicates' gains (`None` entries failed); `dk` is

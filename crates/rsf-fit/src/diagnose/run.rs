@@ -164,6 +164,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ev,
         v_range,
         t_split,
+        ho_base_noise: ho_base.as_ref().map(|(_, f)| noisy(f)),
         ho_base,
         lp_noise,
     };

@@ -110,6 +110,31 @@ fn scatter(idx: &[usize], t: &[f64], y: &[f64], ym: f64) -> f64 {
     ss * (c - 1) as f64 / (c - 2) as f64
 }
 
+/// The rows of a binned record: bin means and the unused samples between them.
+#[derive(Default)]
+struct Rows {
+    time: Vec<f64>,
+    load_point: Vec<f64>,
+    mu: Vec<f64>,
+    /// The first original sample each row stands for (increasing): maps segment bounds.
+    first_of: Vec<usize>,
+}
+
+impl Rows {
+    fn push(&mut self, t: f64, lp: f64, mu: f64, first: usize) {
+        self.time.push(t);
+        self.load_point.push(lp);
+        self.mu.push(mu);
+        self.first_of.push(first);
+    }
+    /// The original samples `from..until` as they are.
+    fn raw(&mut self, r: &Record, from: usize, until: usize) {
+        for i in from..until {
+            self.push(r.time[i], r.load_point[i], r.mu[i], i);
+        }
+    }
+}
+
 /// `p` with its used samples replaced by bin means (weights × √count), each bin spanning at
 /// most `fraction` of the time since its segment's start. The samples that are not used (before
 /// the first used one, in an excluded window) stay in the record as they are, unused: a
@@ -117,26 +142,11 @@ fn scatter(idx: &[usize], t: &[f64], y: &[f64], ym: f64) -> f64 {
 /// at the record's first sample.
 pub(super) fn bin(p: &Prepared, fraction: f64) -> Prepared {
     let r = &p.record;
-    let (mut time, mut lp, mut mu) = (vec![], vec![], vec![]);
-    // the first original sample each new row stands for (increasing): maps segment bounds
-    let mut first_of: Vec<usize> = vec![];
+    let mut rows = Rows::default();
     let (mut used, mut counts, mut within, mut weights, mut seg_of) = (vec![], vec![], vec![], vec![], vec![]);
     let mut sum_ln_w = 0.0;
-    // the original samples not yet written: those before the next bin, when it is not the next
+    // the first original sample not yet written
     let mut raw_from = 0;
-    let raw = |from: usize,
-               until: usize,
-               time: &mut Vec<f64>,
-               lp: &mut Vec<f64>,
-               mu: &mut Vec<f64>,
-               first_of: &mut Vec<usize>| {
-        for i in from..until {
-            time.push(r.time[i]);
-            lp.push(r.load_point[i]);
-            mu.push(r.mu[i]);
-            first_of.push(i);
-        }
-    };
     let mut k = 0;
     while k < p.used.len() {
         let (i0, sg, w) = (p.used[k], p.seg_of[k], p.weights[k]);
@@ -152,16 +162,13 @@ pub(super) fn bin(p: &Prepared, fraction: f64) -> Prepared {
         while e < p.used.len() && continues(e - 1) && continues(e) && r.time[p.used[e]] - r.time[i0] <= span {
             e += 1;
         }
-        raw(raw_from, i0, &mut time, &mut lp, &mut mu, &mut first_of);
+        rows.raw(r, raw_from, i0);
         let c = (e - k) as f64;
         let idx = &p.used[k..e];
         let mean = |v: &[f64]| idx.iter().map(|&i| v[i]).sum::<f64>() / c;
         let m = mean(&r.mu);
-        used.push(time.len());
-        first_of.push(i0);
-        time.push(mean(&r.time));
-        lp.push(mean(&r.load_point));
-        mu.push(m);
+        used.push(rows.time.len());
+        rows.push(mean(&r.time), mean(&r.load_point), m, i0);
         within.push(scatter(idx, &r.time, &r.mu, m));
         counts.push((e - k) as u32);
         weights.push(w * c.sqrt());
@@ -170,12 +177,13 @@ pub(super) fn bin(p: &Prepared, fraction: f64) -> Prepared {
         raw_from = p.used[e - 1] + 1;
         k = e;
     }
-    raw(raw_from, r.time.len(), &mut time, &mut lp, &mut mu, &mut first_of);
+    rows.raw(r, raw_from, r.time.len());
+    let Rows { time, load_point, mu, first_of } = rows;
     let row_of = |i: usize| first_of.partition_point(|&f| f <= i).saturating_sub(1);
     let segments = p.segments.iter().map(|s| Segment { i0: row_of(s.i0), i1: row_of(s.i1), ..s.clone() }).collect();
     let record = Record {
         time,
-        load_point: lp,
+        load_point,
         mu,
         normal_stress: vec![],
         source: p.record.source.clone(),
