@@ -43,6 +43,12 @@ typedef enum RsfForm {
   RSF_FORM_CLASSIC = 0,
   // f = a asinh(V/(2V0) exp((f0 + Ψ)/a)) (SEAS benchmarks).
   RSF_FORM_REGULARIZED = 1,
+  // Cut-off velocities (Okubo 1989; QDYN's law 1): f = f0 − a ln(V1/V + 1) + Ψ with each
+  // state's term b ln(V2 θ/Dc + 1). `RsfFrictionParams::v0` holds V1, the direct effect's
+  // cut-off; each state's `RsfStateParams::vc` holds its V2, the evolution effect's
+  // cut-off (so a Kato–Tullis state, whose `vc` is its own, is refused with this form).
+  // Ψ comes from `rsf_state_term`, not `rsf_psi`; there is no slip-rate solve for it.
+  RSF_FORM_CUTOFF = 2,
 } RsfForm;
 
 // Friction parameters of one element.
@@ -55,7 +61,7 @@ typedef struct RsfFrictionParams {
   double f0;
   // Direct-effect parameter a.
   double a;
-  // Reference slip rate V0.
+  // Reference slip rate V0 (V1 for `RsfFormCutoff`).
   double v0;
 } RsfFrictionParams;
 
@@ -69,7 +75,7 @@ typedef struct RsfStateParams {
   double b;
   // Characteristic slip distance Dc.
   double dc;
-  // Cut-off velocity (Kato–Tullis only; ignored otherwise).
+  // Cut-off velocity: Kato–Tullis's, or V2 under `RsfFormCutoff`; ignored otherwise.
   double vc;
 } RsfStateParams;
 
@@ -91,7 +97,8 @@ enum RsfStatus rsf_friction(const struct RsfFrictionParams *p,
                             double *df_dln_v,
                             double *df_dpsi);
 
-// One state variable's contribution to Ψ, b ln(V0 θ/(s Dc)), at `ln_theta` (∂/∂ln θ = b).
+// One state variable's contribution to Ψ, b ln(V0 θ/(s Dc)), at `ln_theta` (∂/∂ln θ = b),
+// for the classic and regularized forms (`rsf_state_term` serves every form).
 //
 // # Safety
 // `s` and `psi` must be valid pointers (nulls are refused).
@@ -118,6 +125,18 @@ enum RsfStatus rsf_solve_slip_rate(const struct RsfFrictionParams *p,
                                    double ln_v_guess,
                                    double *ln_v,
                                    int32_t *iterations);
+
+// One state variable's contribution to Ψ under the form of `p`, and its partial
+// ∂Ψ/∂ln θ: b ln(V0 θ/(s Dc)) and b for the classic and regularized forms, b ln(V2 θ/(s Dc) + 1)
+// and b V2 θ/(V2 θ + s Dc) for the cut-off form (V2 = `s.vc`).
+//
+// # Safety
+// `p`, `s` and the two outputs must be valid pointers (nulls are refused).
+enum RsfStatus rsf_state_term(const struct RsfFrictionParams *p,
+                              const struct RsfStateParams *s,
+                              double ln_theta,
+                              double *psi,
+                              double *dpsi_dln_theta);
 
 // Over `n` elements (arrays of length n, caller-owned): friction, ∂f/∂ln V, ∂f/∂Ψ and
 // d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]` (one state
@@ -154,5 +173,24 @@ enum RsfStatus rsf_batch_solve_slip_rate(uintptr_t n,
                                          const double *sigma,
                                          const double *eta,
                                          double *ln_v);
+
+// Over `n` elements (arrays of length n, caller-owned), what a host integrating V and θ (or
+// their logs) asks for at every right-hand side: friction f, ∂f/∂ln V, ∂f/∂ln θ and
+// d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]`, one state variable
+// per element, in any form (the cut-off form included). In θ variables: ∂f/∂V = ∂f/∂ln V / V,
+// ∂f/∂θ = ∂f/∂ln θ / θ and dθ/dt = θ d ln θ/dt. Checks and failures as `rsf_batch_rates`.
+//
+// # Safety
+// Every pointer must point to `n` valid values (nulls are refused), and the output arrays
+// must not overlap each other or the inputs.
+enum RsfStatus rsf_batch_partials(uintptr_t n,
+                                  const struct RsfFrictionParams *fp,
+                                  const struct RsfStateParams *sp,
+                                  const double *ln_v,
+                                  const double *ln_theta,
+                                  double *f,
+                                  double *df_dln_v,
+                                  double *df_dln_theta,
+                                  double *ln_theta_rate_out);
 
 #endif  /* RSF_H */

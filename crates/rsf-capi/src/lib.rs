@@ -12,9 +12,13 @@
 //! `rsf_last_error` gives the message of the calling thread's last failure. Variables are
 //! logs: `ln_v = ln V`, `ln_theta = ln θ`; units are the host's own (V, V0 and Dc consistent).
 
-use rsf_core::FrictionForm;
-use rsf_core::element::{SlipRateError, friction, ln_theta_rate, psi_term, solve_slip_rate};
-use rsf_laws::{Aging, KatoTullis, Law, Prz, Slip};
+mod batch;
+mod form;
+
+pub use batch::{rsf_batch_partials, rsf_batch_rates, rsf_batch_solve_slip_rate};
+use form::{form_of, with_law};
+use rsf_core::element::{SlipRateError, psi_term, solve_slip_rate};
+use rsf_laws::Law;
 use std::cell::RefCell;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -77,6 +81,12 @@ pub enum RsfForm {
     RsfFormClassic = 0,
     /// f = a asinh(V/(2V0) exp((f0 + Ψ)/a)) (SEAS benchmarks).
     RsfFormRegularized = 1,
+    /// Cut-off velocities (Okubo 1989; QDYN's law 1): f = f0 − a ln(V1/V + 1) + Ψ with each
+    /// state's term b ln(V2 θ/Dc + 1). `RsfFrictionParams::v0` holds V1, the direct effect's
+    /// cut-off; each state's `RsfStateParams::vc` holds its V2, the evolution effect's
+    /// cut-off (so a Kato–Tullis state, whose `vc` is its own, is refused with this form).
+    /// Ψ comes from `rsf_state_term`, not `rsf_psi`; there is no slip-rate solve for it.
+    RsfFormCutoff = 2,
 }
 
 /// Friction parameters of one element.
@@ -91,7 +101,7 @@ pub struct RsfFrictionParams {
     pub f0: f64,
     /// Direct-effect parameter a.
     pub a: f64,
-    /// Reference slip rate V0.
+    /// Reference slip rate V0 (V1 for `RsfFormCutoff`).
     pub v0: f64,
 }
 
@@ -107,7 +117,7 @@ pub struct RsfStateParams {
     pub b: f64,
     /// Characteristic slip distance Dc.
     pub dc: f64,
-    /// Cut-off velocity (Kato–Tullis only; ignored otherwise).
+    /// Cut-off velocity: Kato–Tullis's, or V2 under `RsfFormCutoff`; ignored otherwise.
     pub vc: f64,
 }
 
@@ -124,63 +134,6 @@ fn fail(status: RsfStatus, msg: String) -> RsfStatus {
 fn guard(f: impl FnOnce() -> RsfStatus) -> RsfStatus {
     catch_unwind(AssertUnwindSafe(f))
         .unwrap_or_else(|_| fail(RsfStatus::RsfInternal, "internal error in rsf (a caught panic)".into()))
-}
-
-fn form_of(p: &RsfFrictionParams) -> Result<FrictionForm, RsfStatus> {
-    if p.version != RSF_ABI_VERSION {
-        return Err(fail(
-            RsfStatus::RsfBadInput,
-            format!("RsfFrictionParams.version {} (expected {RSF_ABI_VERSION})", p.version),
-        ));
-    }
-    if ![p.f0, p.a, p.v0].iter().all(|x| x.is_finite()) || p.a <= 0.0 || p.v0 <= 0.0 {
-        return Err(fail(
-            RsfStatus::RsfBadInput,
-            format!("friction parameters need finite f0, a > 0, v0 > 0 (got {p:?})"),
-        ));
-    }
-    match p.form {
-        0 => Ok(FrictionForm::Classic),
-        1 => Ok(FrictionForm::Regularized),
-        id => Err(fail(RsfStatus::RsfUnknownId, format!("unknown friction form id {id} (0 classic, 1 regularized)"))),
-    }
-}
-
-/// Calls `f` with the law of `s`, after checking it.
-fn with_law<T>(s: &RsfStateParams, f: impl FnOnce(&dyn Fn(f64, f64) -> f64, f64) -> T) -> Result<T, RsfStatus> {
-    if s.version != RSF_ABI_VERSION {
-        return Err(fail(
-            RsfStatus::RsfBadInput,
-            format!("RsfStateParams.version {} (expected {RSF_ABI_VERSION})", s.version),
-        ));
-    }
-    if !(s.b.is_finite() && s.dc.is_finite() && s.dc > 0.0) {
-        return Err(fail(RsfStatus::RsfBadInput, format!("state parameters need finite b and dc > 0 (got {s:?})")));
-    }
-    let (b, dc) = (s.b, s.dc);
-    let Some(law) = Law::from_c_id(s.law) else {
-        let known: Vec<String> = Law::ALL.iter().map(|l| format!("{} {}", l.c_id(), l.name())).collect();
-        return Err(fail(RsfStatus::RsfUnknownId, format!("unknown law id {} ({})", s.law, known.join(", "))));
-    };
-    Ok(match law {
-        Law::Aging => f(&|x, z| ln_theta_rate(&Aging, x, z, dc, b), 1.0),
-        Law::Slip => f(&|x, z| ln_theta_rate(&Slip, x, z, dc, b), 1.0),
-        Law::KatoTullis if s.vc.is_finite() && s.vc > 0.0 => {
-            let law = KatoTullis { vc: s.vc };
-            f(&|x, z| ln_theta_rate(&law, x, z, dc, b), 1.0)
-        }
-        Law::KatoTullis => {
-            return Err(fail(RsfStatus::RsfBadInput, format!("Kato–Tullis needs vc > 0 (got {})", s.vc)));
-        }
-        Law::Prz => f(&|x, z| ln_theta_rate(&Prz, x, z, dc, b), 2.0),
-        // this ABI's rates take no shear-stress rate, which Nagata's law needs
-        Law::Nagata => {
-            return Err(fail(
-                RsfStatus::RsfUnknownId,
-                "law id 4 (nagata) needs the shear-stress rate, which this ABI version does not carry".into(),
-            ));
-        }
-    })
 }
 
 fn status_of(e: SlipRateError) -> RsfStatus {
@@ -294,14 +247,15 @@ pub unsafe extern "C" fn rsf_friction(
         };
         let form = form_of(p)?;
         finite(CALL, &[("ln_v", ln_v), ("psi", psi)])?;
-        let r = friction(form, p.f0, p.a, p.v0, ln_v, psi);
+        let r = form.friction(p, ln_v, psi);
         finite_out(CALL, &[("f", r.value), ("df_dln_v", r.d_ln_v), ("df_dpsi", r.d_psi)])?;
         (f[0], df_dln_v[0], df_dpsi[0]) = (r.value, r.d_ln_v, r.d_psi);
         Ok(())
     })
 }
 
-/// One state variable's contribution to Ψ, b ln(V0 θ/(s Dc)), at `ln_theta` (∂/∂ln θ = b).
+/// One state variable's contribution to Ψ, b ln(V0 θ/(s Dc)), at `ln_theta` (∂/∂ln θ = b),
+/// for the classic and regularized forms (`rsf_state_term` serves every form).
 ///
 /// # Safety
 /// `s` and `psi` must be valid pointers (nulls are refused).
@@ -364,7 +318,7 @@ pub unsafe extern "C" fn rsf_solve_slip_rate(
     status(|| {
         // SAFETY: each pointer is checked for null and is one value by the contract above
         let (p, ln_v) = unsafe { (&input(CALL, "p", p, 1)?[0], output(CALL, "ln_v", ln_v, 1)?) };
-        let form = form_of(p)?;
+        let form = form_of(p)?.core(CALL)?;
         finite(CALL, &[("psi", psi), ("tau", tau), ("sigma", sigma), ("eta", eta), ("ln_v_guess", ln_v_guess)])?;
         let r = solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau, sigma, eta, ln_v_guess).map_err(status_of)?;
         ln_v[0] = r.ln_v;
@@ -376,114 +330,37 @@ pub unsafe extern "C" fn rsf_solve_slip_rate(
     })
 }
 
-/// Over `n` elements (arrays of length n, caller-owned): friction, ∂f/∂ln V, ∂f/∂Ψ and
-/// d ln θ/dt of element i from `fp[i]`, `sp[i]`, `ln_v[i]`, `ln_theta[i]` (one state
-/// variable per element; Ψ = that state's term). Every input is checked as the one-element
-/// calls check it; the first bad element is named (`element i: …` in `rsf_last_error`) and
-/// nothing after it is written.
+/// One state variable's contribution to Ψ under the form of `p`, and its partial
+/// ∂Ψ/∂ln θ: b ln(V0 θ/(s Dc)) and b for the classic and regularized forms, b ln(V2 θ/(s Dc) + 1)
+/// and b V2 θ/(V2 θ + s Dc) for the cut-off form (V2 = `s.vc`).
 ///
 /// # Safety
-/// Every pointer must point to `n` valid values (nulls are refused), and the output arrays
-/// must not overlap each other or the inputs.
+/// `p`, `s` and the two outputs must be valid pointers (nulls are refused).
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn rsf_batch_rates(
-    n: usize,
-    fp: *const RsfFrictionParams,
-    sp: *const RsfStateParams,
-    ln_v: *const f64,
-    ln_theta: *const f64,
-    f: *mut f64,
-    df_dln_v: *mut f64,
-    df_dpsi: *mut f64,
-    ln_theta_rate_out: *mut f64,
+pub unsafe extern "C" fn rsf_state_term(
+    p: *const RsfFrictionParams,
+    s: *const RsfStateParams,
+    ln_theta: f64,
+    psi: *mut f64,
+    dpsi_dln_theta: *mut f64,
 ) -> RsfStatus {
-    const CALL: &str = "rsf_batch_rates";
+    const CALL: &str = "rsf_state_term";
     status(|| {
-        if n == 0 {
-            return Ok(());
-        }
-        // each pointer is checked for null and n for size by `input`/`output`
-        // SAFETY: n values each, not overlapping, by the contract in this function's doc
-        let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_dpsi, rate) = unsafe {
+        // SAFETY: each pointer is checked for null and is one value by the contract above
+        let (p, s, psi, dpsi) = unsafe {
             (
-                input(CALL, "fp", fp, n)?,
-                input(CALL, "sp", sp, n)?,
-                input(CALL, "ln_v", ln_v, n)?,
-                input(CALL, "ln_theta", ln_theta, n)?,
-                output(CALL, "f", f, n)?,
-                output(CALL, "df_dln_v", df_dln_v, n)?,
-                output(CALL, "df_dpsi", df_dpsi, n)?,
-                output(CALL, "ln_theta_rate", ln_theta_rate_out, n)?,
+                &input(CALL, "p", p, 1)?[0],
+                &input(CALL, "s", s, 1)?[0],
+                output(CALL, "psi", psi, 1)?,
+                output(CALL, "dpsi_dln_theta", dpsi_dln_theta, 1)?,
             )
         };
-        for i in 0..n {
-            let (p, s, x, z) = (&fp[i], &sp[i], ln_v[i], ln_theta[i]);
-            let form = form_of(p).map_err(|st| element(i, st))?;
-            finite(CALL, &[("ln_v", x), ("ln_theta", z)]).map_err(|st| element(i, st))?;
-            let (fr, r) = with_law(s, |g, scale| {
-                (friction(form, p.f0, p.a, p.v0, x, psi_term(s.b, p.v0, s.dc, scale, z)), g(x, z))
-            })
-            .map_err(|st| element(i, st))?;
-            finite_out(CALL, &[("f", fr.value), ("df_dln_v", fr.d_ln_v), ("df_dpsi", fr.d_psi), ("ln_theta_rate", r)])
-                .map_err(|st| element(i, st))?;
-            (f[i], df_dln_v[i], df_dpsi[i], rate[i]) = (fr.value, fr.d_ln_v, fr.d_psi, r);
-        }
-        Ok(())
-    })
-}
-
-/// Over `n` elements: the slip rate of element i from the balance with its own `tau[i]`,
-/// `sigma[i]`, `eta[i]` and state (Ψ from `sp[i]`, `ln_theta[i]`); `ln_v` holds the warm
-/// starts on entry and the roots on return. Stops at the first bad element or element without
-/// a root and names it (`element i: …` in `rsf_last_error`).
-///
-/// # Safety
-/// Every pointer must point to `n` valid values (nulls are refused), and `ln_v` must not
-/// overlap the inputs.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn rsf_batch_solve_slip_rate(
-    n: usize,
-    fp: *const RsfFrictionParams,
-    sp: *const RsfStateParams,
-    ln_theta: *const f64,
-    tau: *const f64,
-    sigma: *const f64,
-    eta: *const f64,
-    ln_v: *mut f64,
-) -> RsfStatus {
-    const CALL: &str = "rsf_batch_solve_slip_rate";
-    status(|| {
-        if n == 0 {
-            return Ok(());
-        }
-        // each pointer is checked for null and n for size by `input`/`output`
-        // SAFETY: n values each, `ln_v` not overlapping the inputs, by the contract in this function's doc
-        let (fp, sp, ln_theta, tau, sigma, eta, ln_v) = unsafe {
-            (
-                input(CALL, "fp", fp, n)?,
-                input(CALL, "sp", sp, n)?,
-                input(CALL, "ln_theta", ln_theta, n)?,
-                input(CALL, "tau", tau, n)?,
-                input(CALL, "sigma", sigma, n)?,
-                input(CALL, "eta", eta, n)?,
-                output(CALL, "ln_v", ln_v, n)?,
-            )
-        };
-        for i in 0..n {
-            let (p, s) = (&fp[i], &sp[i]);
-            let form = form_of(p).map_err(|st| element(i, st))?;
-            finite(
-                CALL,
-                &[("ln_theta", ln_theta[i]), ("tau", tau[i]), ("sigma", sigma[i]), ("eta", eta[i]), ("ln_v", ln_v[i])],
-            )
-            .map_err(|st| element(i, st))?;
-            let psi =
-                with_law(s, |_, scale| psi_term(s.b, p.v0, s.dc, scale, ln_theta[i])).map_err(|st| element(i, st))?;
-            finite_out(CALL, &[("psi", psi)]).map_err(|st| element(i, st))?;
-            let r = solve_slip_rate(form, p.f0, p.a, p.v0, psi, tau[i], sigma[i], eta[i], ln_v[i])
-                .map_err(|e| element(i, status_of(e)))?;
-            ln_v[i] = r.ln_v;
-        }
+        let form = form_of(p)?;
+        form.check_state(s)?;
+        finite(CALL, &[("ln_theta", ln_theta)])?;
+        let (v, d) = with_law(s, |_, scale| form.state_term(p, s, scale, ln_theta))?;
+        finite_out(CALL, &[("psi", v), ("dpsi_dln_theta", d)])?;
+        (psi[0], dpsi[0]) = (v, d);
         Ok(())
     })
 }

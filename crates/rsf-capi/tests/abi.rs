@@ -40,8 +40,10 @@ fn compile_and_run(compiler: &str, source: &str, out: &str) -> String {
     let src = crate_dir().join("examples").join(source);
     let mut cmd = Command::new(compiler);
     if compiler == "gfortran" {
-        // the compiled module file goes to the temporary directory, not the source tree
-        cmd.arg("-J").arg(std::env::temp_dir());
+        // the module include/rsf.f90 first; its compiled module file goes to the temporary
+        // directory, not the source tree
+        let tmp = std::env::temp_dir();
+        cmd.arg("-J").arg(&tmp).arg(format!("-I{}", tmp.display())).arg(crate_dir().join("include/rsf.f90"));
     }
     let status = cmd
         .arg(&src)
@@ -144,7 +146,7 @@ fn c_host_sees_every_bad_input_refused() {
     }
     let out = compile_and_run("gcc", "c/refusals.c", "rsf_capi_refusals");
     println!("{out}");
-    assert!(out.contains("refused 21 accepted 0"), "{out}");
+    assert!(out.contains("refused 27 accepted 0"), "{out}");
     assert!(!out.contains("ACCEPTED"), "{out}");
     for (call, says) in [
         ("psi v0=nan ->", "rsf_psi: v0 = NaN is not finite"),
@@ -157,11 +159,18 @@ fn c_host_sees_every_bad_input_refused() {
         ("batch_solve sigma[2]=nan ->", "element 2: rsf_batch_solve_slip_rate: sigma = NaN"),
         ("batch_solve ln_v[3]=nan ->", "element 3:"),
         ("friction null output ->", "rsf_friction: f is null"),
+        ("state_term cutoff vc=0 ->", "needs each state's vc = V2 > 0 (got 0)"),
+        ("state_term cutoff kato-tullis ->", "a Kato-Tullis state"),
+        ("solve cutoff ->", "rsf_solve_slip_rate: the cut-off form (2) has no slip-rate solve"),
+        ("state_term ln_theta=nan ->", "rsf_state_term: ln_theta = NaN is not finite"),
+        ("batch_partials cutoff vc[1]=0 ->", "element 1: the cut-off form needs each state's vc = V2 > 0"),
+        ("batch_partials ln_v[3]=nan ->", "element 3: rsf_batch_partials: ln_v = NaN"),
     ] {
         let line = out.lines().find(|l| l.starts_with(call)).unwrap_or_else(|| panic!("no `{call}` in\n{out}"));
         assert!(line.contains(" -> 1: ") && line.contains(says), "{line}");
     }
     assert!(out.contains("good batch -> 0"), "{out}");
+    assert!(out.contains("good cutoff batch -> 0"), "{out}");
 }
 
 #[test]
@@ -176,6 +185,14 @@ fn fortran_host_through_iso_c_binding() {
     assert!(value(&out, "rate at steady state") < 1e-12, "{out}");
     assert!(value(&out, "solve error") < 1e-10, "{out}");
     assert!(out.contains("batch status 0"), "{out}");
+    // the cut-off form (QDYN's law 1) against its closed form, written in the host
+    assert!(value(&out, "cutoff friction error") < 1e-15, "{out}");
+    assert!(value(&out, "cutoff dmu/dV error") < 1e-13, "{out}");
+    assert!(value(&out, "cutoff dmu/dtheta error") < 1e-13, "{out}");
+    assert!(value(&out, "slip rate error") < 1e-13, "{out}");
+    assert!(value(&out, "batch partials error") == 0.0, "{out}");
+    let refused = out.lines().find(|l| l.starts_with("cutoff with kato-tullis")).unwrap();
+    assert!(refused.contains("-> 1: element 2:") && refused.contains("Kato-Tullis"), "{refused}");
 }
 
 #[test]

@@ -25,7 +25,7 @@ fn any_f64() -> impl Strategy<Value = f64> {
 }
 
 fn friction_params() -> impl Strategy<Value = RsfFrictionParams> {
-    (prop_oneof![4 => Just(RSF_ABI_VERSION), 1 => any::<u32>()], -1i32..3, any_f64(), any_f64(), any_f64())
+    (prop_oneof![4 => Just(RSF_ABI_VERSION), 1 => any::<u32>()], -1i32..4, any_f64(), any_f64(), any_f64())
         .prop_map(|(version, form, f0, a, v0)| RsfFrictionParams { version, form, f0, a, v0 })
 }
 
@@ -46,12 +46,13 @@ proptest! {
     #[test]
     fn single_element_calls(fp in friction_params(), sp in state_params(), x in any_f64(), z in any_f64(),
                             tau in any_f64(), sigma in any_f64(), eta in any_f64()) {
-        let (mut f, mut d1, mut d2, mut psi, mut rate, mut lv) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut f, mut d1, mut d2, mut psi, mut rate, mut lv, mut dpsi) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         let mut it = 0i32;
         // SAFETY: every pointer is to a live local
         unsafe {
             check(rsf_friction(&fp, x, z, &mut f, &mut d1, &mut d2), &[f, d1, d2])?;
             check(rsf_psi(&sp, fp.v0, z, &mut psi), &[psi])?;
+            check(rsf_state_term(&fp, &sp, z, &mut psi, &mut dpsi), &[psi, dpsi])?;
             check(rsf_ln_theta_rate(&sp, x, z, &mut rate), &[rate])?;
             check(rsf_solve_slip_rate(&fp, z, tau, sigma, eta, x, &mut lv, &mut it), &[lv])?;
         }
@@ -73,10 +74,70 @@ proptest! {
         unsafe {
             let st = rsf_batch_rates(n, fp.as_ptr(), sp.as_ptr(), x.as_ptr(), z.as_ptr(), f.as_mut_ptr(),
                                      d1.as_mut_ptr(), d2.as_mut_ptr(), r.as_mut_ptr());
+            check(st, &[f.clone(), d1.clone(), d2.clone(), r.clone()].concat())?;
+            let st = rsf_batch_partials(n, fp.as_ptr(), sp.as_ptr(), x.as_ptr(), z.as_ptr(), f.as_mut_ptr(),
+                                        d1.as_mut_ptr(), d2.as_mut_ptr(), r.as_mut_ptr());
             check(st, &[f.clone(), d1, d2, r].concat())?;
             let st = rsf_batch_solve_slip_rate(n, fp.as_ptr(), sp.as_ptr(), z.as_ptr(), tau.as_ptr(),
                                                sigma.as_ptr(), eta.as_ptr(), lv.as_mut_ptr());
             check(st, &lv)?;
+        }
+    }
+}
+
+fn valid_element() -> impl Strategy<Value = (RsfFrictionParams, RsfStateParams, f64, f64)> {
+    (
+        0i32..3,
+        0i32..4,
+        0.3f64..0.9,
+        1e-4f64..0.05,
+        prop_oneof![Just(1e-6), 1e-9f64..1e-3],
+        -0.02f64..0.05,
+        prop_oneof![Just(1e-5), 1e-6f64..1e-1],
+        1e-9f64..1.0,
+        -30.0f64..5.0,
+        -10.0f64..20.0,
+    )
+        .prop_map(|(form, law, f0, a, v0, b, dc, vc, x, z)| {
+            // the cut-off form reads vc as V2 and refuses a Kato–Tullis state
+            let law = if form == 2 && law == 2 { 0 } else { law };
+            (
+                RsfFrictionParams { version: RSF_ABI_VERSION, form, f0, a, v0 },
+                RsfStateParams { version: RSF_ABI_VERSION, law, b, dc, vc },
+                x,
+                z,
+            )
+        })
+}
+
+proptest! {
+    /// The batch partials are the one-element calls, bit for bit, however the elements share
+    /// or differ in their parameters (the batch call keeps the logs of shared V0 and Dc).
+    #[test]
+    fn batch_partials_are_the_single_calls(elems in prop::collection::vec(valid_element(), 1..8)) {
+        let n = elems.len();
+        let fp: Vec<_> = elems.iter().map(|e| e.0).collect();
+        let sp: Vec<_> = elems.iter().map(|e| e.1).collect();
+        let (x, z): (Vec<f64>, Vec<f64>) = elems.iter().map(|e| (e.2, e.3)).unzip();
+        let (mut f, mut fx, mut fz, mut r) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        // SAFETY: every array has n elements and the outputs are distinct vectors
+        let st = unsafe {
+            rsf_batch_partials(n, fp.as_ptr(), sp.as_ptr(), x.as_ptr(), z.as_ptr(), f.as_mut_ptr(),
+                               fx.as_mut_ptr(), fz.as_mut_ptr(), r.as_mut_ptr())
+        };
+        prop_assert_eq!(st, RsfStatus::RsfOk);
+        for i in 0..n {
+            let (mut psi, mut dpsi, mut f1, mut d1, mut d2, mut rate) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            // SAFETY: every pointer is to a live local
+            unsafe {
+                prop_assert_eq!(rsf_state_term(&fp[i], &sp[i], z[i], &mut psi, &mut dpsi), RsfStatus::RsfOk);
+                prop_assert_eq!(rsf_friction(&fp[i], x[i], psi, &mut f1, &mut d1, &mut d2), RsfStatus::RsfOk);
+                prop_assert_eq!(rsf_ln_theta_rate(&sp[i], x[i], z[i], &mut rate), RsfStatus::RsfOk);
+            }
+            prop_assert_eq!(f[i].to_bits(), f1.to_bits());
+            prop_assert_eq!(fx[i].to_bits(), d1.to_bits());
+            prop_assert_eq!(fz[i].to_bits(), (d2 * dpsi).to_bits());
+            prop_assert_eq!(r[i].to_bits(), rate.to_bits());
         }
     }
 }

@@ -36,6 +36,9 @@
 use crate::friction::asinh_exp_and_slope;
 use crate::{FrictionForm, StateArgs, StateLaw};
 
+mod cutoff;
+pub use cutoff::{cutoff_friction, cutoff_psi_term};
+
 /// Friction and its partial derivatives at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Friction {
@@ -52,12 +55,28 @@ pub struct Friction {
 /// [`psi_term`] over the state variables.
 #[inline]
 pub fn friction(form: FrictionForm, f0: f64, a: f64, v0: f64, ln_v: f64, psi: f64) -> Friction {
+    friction_at(form, f0, a, reference_rate(form, v0).ln(), ln_v, psi)
+}
+
+/// The reference rate `form`'s friction is written with: V0 (classic) or 2V0 (regularized).
+/// A host looping over elements that share V0 takes its log once and calls [`friction_at`].
+#[inline]
+pub fn reference_rate(form: FrictionForm, v0: f64) -> f64 {
     match form {
-        FrictionForm::Classic => Friction { value: f0 + a * (ln_v - v0.ln()) + psi, d_ln_v: a, d_psi: 1.0 },
+        FrictionForm::Classic => v0,
+        FrictionForm::Regularized => 2.0 * v0,
+    }
+}
+
+/// [`friction`] with `ln_ref = ln reference_rate(form, v0)` at hand (the same numbers).
+#[inline]
+pub fn friction_at(form: FrictionForm, f0: f64, a: f64, ln_ref: f64, ln_v: f64, psi: f64) -> Friction {
+    match form {
+        FrictionForm::Classic => Friction { value: f0 + a * (ln_v - ln_ref) + psi, d_ln_v: a, d_psi: 1.0 },
         FrictionForm::Regularized => {
             // one exponential for value and slope: with L = ln(V/(2V0)) + (f0 + Ψ)/a,
             // f = a asinh(e^L) and ∂f/∂L = 1/sqrt(1 + e^(−2L)), written for either sign of L
-            let l = ln_v - (2.0 * v0).ln() + (f0 + psi) / a;
+            let l = ln_v - ln_ref + (f0 + psi) / a;
             let (asinh, c) = asinh_exp_and_slope(l);
             let value = a * asinh;
             Friction { value, d_ln_v: a * c, d_psi: c }

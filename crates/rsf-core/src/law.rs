@@ -79,6 +79,12 @@ pub struct LnArgs {
 impl LnArgs {
     /// Arguments at x = ln V, z = ln θ with zero stress rate at unit normal stress.
     pub fn new(x: f64, z: f64, dc: f64, b: f64) -> Self {
+        Self::with_ln_dc(x, z, dc, dc.ln(), b)
+    }
+
+    /// As [`LnArgs::new`] with `ln_dc = ln Dc` already at hand (a host looping over elements
+    /// that share Dc computes it once).
+    pub fn with_ln_dc(x: f64, z: f64, dc: f64, ln_dc: f64, b: f64) -> Self {
         let v = x.exp();
         Self {
             x,
@@ -87,7 +93,7 @@ impl LnArgs {
             z,
             dc,
             inv_dc: 1.0 / dc,
-            ln_dc: dc.ln(),
+            ln_dc,
             b,
             stress_rate: 0.0,
             normal_stress: 1.0,

@@ -62,6 +62,27 @@ int main(void) {
     sg[2] = 50;
     guess[3] = NAN;
     report("batch_solve ln_v[3]=nan", rsf_batch_solve_slip_rate(4, fps, sps, lt, tau, sg, et, guess), guess[3]);
+    /* the cut-off form: V2 (the state's vc) must be positive, a Kato-Tullis state is refused,
+     * and it has no slip-rate solve */
+    RsfFrictionParams cut = {RSF_ABI_VERSION, RSF_FORM_CUTOFF, 0.6, 0.01, 1e-3};
+    RsfStateParams cs = {RSF_ABI_VERSION, RSF_LAW_AGING, 0.015, 0.01, 0.0};
+    report("state_term cutoff vc=0", rsf_state_term(&cut, &cs, 0.0, &out, &d1), out);
+    cs.vc = 0.1;
+    cs.law = RSF_LAW_KATO_TULLIS;
+    report("state_term cutoff kato-tullis", rsf_state_term(&cut, &cs, 0.0, &out, &d1), out);
+    cs.law = RSF_LAW_AGING;
+    report("solve cutoff", rsf_solve_slip_rate(&cut, 0.0, 30.0, 50.0, 0.0, 0.0, &out, NULL), out);
+    report("state_term ln_theta=nan", rsf_state_term(&cut, &cs, NAN, &out, &d1), out);
+    fps[1] = cut;
+    report("batch_partials cutoff vc[1]=0", rsf_batch_partials(4, fps, sps, lv, lt, f, a, b, r), f[1]);
+    sps[1] = cs;
+    lv[3] = NAN;
+    report("batch_partials ln_v[3]=nan", rsf_batch_partials(4, fps, sps, lv, lt, f, a, b, r), f[3]);
+    lv[3] = 0;
+    enum RsfStatus ok_cut = rsf_batch_partials(4, fps, sps, lv, lt, f, a, b, r);
+    printf("good cutoff batch -> %d\n", (int)ok_cut);
+    fps[1] = fp;
+    sps[1] = sp;
     /* and a good batch still works */
     guess[3] = 0;
     enum RsfStatus ok = rsf_batch_rates(4, fps, sps, lv, lt, f, a, b, r);
