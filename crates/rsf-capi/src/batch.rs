@@ -29,38 +29,22 @@ pub unsafe extern "C" fn rsf_batch_rates(
     df_dpsi: *mut f64,
     ln_theta_rate_out: *mut f64,
 ) -> RsfStatus {
-    const CALL: &str = "rsf_batch_rates";
-    status(|| {
-        if n == 0 {
-            return Ok(());
-        }
-        // each pointer is checked for null and n for size by `input`/`output`
-        // SAFETY: n values each, not overlapping, by the contract in this function's doc
-        let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_dpsi, rate) = unsafe {
-            (
-                input(CALL, "fp", fp, n)?,
-                input(CALL, "sp", sp, n)?,
-                input(CALL, "ln_v", ln_v, n)?,
-                input(CALL, "ln_theta", ln_theta, n)?,
-                output(CALL, "f", f, n)?,
-                output(CALL, "df_dln_v", df_dln_v, n)?,
-                output(CALL, "df_dpsi", df_dpsi, n)?,
-                output(CALL, "ln_theta_rate", ln_theta_rate_out, n)?,
-            )
-        };
-        for i in 0..n {
-            let (p, s, x, z) = (&fp[i], &sp[i], ln_v[i], ln_theta[i]);
-            let form = form_of(p).map_err(|st| element(i, st))?;
-            form.check_state(s).map_err(|st| element(i, st))?;
-            finite(CALL, &[("ln_v", x), ("ln_theta", z)]).map_err(|st| element(i, st))?;
-            let (fr, r) = with_law(s, |g, scale| (form.friction(p, x, form.state_term(p, s, scale, z).0), g(x, z)))
-                .map_err(|st| element(i, st))?;
-            finite_out(CALL, &[("f", fr.value), ("df_dln_v", fr.d_ln_v), ("df_dpsi", fr.d_psi), ("ln_theta_rate", r)])
-                .map_err(|st| element(i, st))?;
-            (f[i], df_dln_v[i], df_dpsi[i], rate[i]) = (fr.value, fr.d_ln_v, fr.d_psi, r);
-        }
-        Ok(())
-    })
+    // SAFETY: forwarded, with this function's contract
+    unsafe {
+        over_elements(
+            "rsf_batch_rates",
+            Third::DfDpsi,
+            n,
+            fp,
+            sp,
+            ln_v,
+            ln_theta,
+            f,
+            df_dln_v,
+            df_dpsi,
+            ln_theta_rate_out,
+        )
+    }
 }
 
 /// Over `n` elements: the slip rate of element i from the balance with its own `tau[i]`,
@@ -140,35 +124,82 @@ pub unsafe extern "C" fn rsf_batch_partials(
     df_dln_theta: *mut f64,
     ln_theta_rate_out: *mut f64,
 ) -> RsfStatus {
-    const CALL: &str = "rsf_batch_partials";
+    // SAFETY: forwarded, with this function's contract
+    unsafe {
+        over_elements(
+            "rsf_batch_partials",
+            Third::DfDlnTheta,
+            n,
+            fp,
+            sp,
+            ln_v,
+            ln_theta,
+            f,
+            df_dln_v,
+            df_dln_theta,
+            ln_theta_rate_out,
+        )
+    }
+}
+
+/// The third output of [`over_elements`]: ∂f/∂Ψ (`rsf_batch_rates`) or ∂f/∂ln θ
+/// (`rsf_batch_partials`).
+#[derive(Clone, Copy)]
+enum Third {
+    DfDpsi,
+    DfDlnTheta,
+}
+
+/// Friction, ∂f/∂ln V, the `third` partial and d ln θ/dt of every element: the body of both
+/// batch rate calls. The logs of V0, s Dc, Dc and the form's reference rate are taken once for
+/// a run of elements that share them (the same numbers as the one-element calls).
+///
+/// # Safety
+/// As `rsf_batch_partials`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn over_elements(
+    call: &str,
+    third: Third,
+    n: usize,
+    fp: *const RsfFrictionParams,
+    sp: *const RsfStateParams,
+    ln_v: *const f64,
+    ln_theta: *const f64,
+    f: *mut f64,
+    df_dln_v: *mut f64,
+    df_third: *mut f64,
+    ln_theta_rate_out: *mut f64,
+) -> RsfStatus {
+    let third_name = match third {
+        Third::DfDpsi => "df_dpsi",
+        Third::DfDlnTheta => "df_dln_theta",
+    };
     status(|| {
         if n == 0 {
             return Ok(());
         }
         // each pointer is checked for null and n for size by `input`/`output`
-        // SAFETY: n values each, not overlapping, by the contract in this function's doc
-        let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_dln_theta, rate) = unsafe {
+        // SAFETY: n values each, not overlapping, by the caller's contract
+        let (fp, sp, ln_v, ln_theta, f, df_dln_v, df_third, rate) = unsafe {
             (
-                input(CALL, "fp", fp, n)?,
-                input(CALL, "sp", sp, n)?,
-                input(CALL, "ln_v", ln_v, n)?,
-                input(CALL, "ln_theta", ln_theta, n)?,
-                output(CALL, "f", f, n)?,
-                output(CALL, "df_dln_v", df_dln_v, n)?,
-                output(CALL, "df_dln_theta", df_dln_theta, n)?,
-                output(CALL, "ln_theta_rate", ln_theta_rate_out, n)?,
+                input(call, "fp", fp, n)?,
+                input(call, "sp", sp, n)?,
+                input(call, "ln_v", ln_v, n)?,
+                input(call, "ln_theta", ln_theta, n)?,
+                output(call, "f", f, n)?,
+                output(call, "df_dln_v", df_dln_v, n)?,
+                output(call, third_name, df_third, n)?,
+                output(call, "ln_theta_rate", ln_theta_rate_out, n)?,
             )
         };
-        // the logs of V0, s Dc and Dc, taken once for a run of elements that share them
-        let (mut ln_v0, mut ln_sdc, mut ln_dc) = (LnMemo::default(), LnMemo::default(), LnMemo::default());
-        // and the log of the friction form's reference rate (V0 or 2V0)
-        let mut ln_ref = LnMemo::default();
+        let (mut ln_v0, mut ln_sdc, mut ln_dc, mut ln_ref) =
+            (LnMemo::default(), LnMemo::default(), LnMemo::default(), LnMemo::default());
         for i in 0..n {
             let (p, s, x, z) = (&fp[i], &sp[i], ln_v[i], ln_theta[i]);
             let form = form_of(p).map_err(|st| element(i, st))?;
             form.check_state(s).map_err(|st| element(i, st))?;
             let law = AbiLaw::of(s).map_err(|st| element(i, st))?;
-            finite(CALL, &[("ln_v", x), ("ln_theta", z)]).map_err(|st| element(i, st))?;
+            finite(call, &[("ln_v", x), ("ln_theta", z)]).map_err(|st| element(i, st))?;
             let scale = law.theta_scale();
             // Ψ's term as `psi_term` and `cutoff_psi_term` write it, with the logs memoised
             let (psi, dpsi) = match form {
@@ -180,13 +211,13 @@ pub unsafe extern "C" fn rsf_batch_partials(
                 Form::Cutoff => form.friction(p, x, psi),
             };
             let r = law.ln_rate(&LnArgs::with_ln_dc(x, z, s.dc, ln_dc.ln(s.dc), s.b));
-            let df_dz = fr.d_psi * dpsi;
-            finite_out(
-                CALL,
-                &[("f", fr.value), ("df_dln_v", fr.d_ln_v), ("df_dln_theta", df_dz), ("ln_theta_rate", r)],
-            )
-            .map_err(|st| element(i, st))?;
-            (f[i], df_dln_v[i], df_dln_theta[i], rate[i]) = (fr.value, fr.d_ln_v, df_dz, r);
+            let d3 = match third {
+                Third::DfDpsi => fr.d_psi,
+                Third::DfDlnTheta => fr.d_psi * dpsi,
+            };
+            finite_out(call, &[("f", fr.value), ("df_dln_v", fr.d_ln_v), (third_name, d3), ("ln_theta_rate", r)])
+                .map_err(|st| element(i, st))?;
+            (f[i], df_dln_v[i], df_third[i], rate[i]) = (fr.value, fr.d_ln_v, d3, r);
         }
         Ok(())
     })

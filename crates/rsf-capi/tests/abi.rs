@@ -9,26 +9,12 @@
 use rsf_core::{FrictionForm, Loading, Model, Segment, StateVariable};
 use rsf_laws::Aging;
 use rsf_solvers::{Auto, OutputTimes, Problem, solve};
-use std::path::PathBuf;
 use std::process::Command;
 
 const YEAR: f64 = 3.1536e7;
 
-/// The static library this test links: cargo builds the library with all its crate types
-/// (rlib, staticlib, cdylib) into `target/<profile>/deps/`, beside this test's own binary, for
-/// `cargo test` alone; `cargo build` also copies it one folder up.
-fn static_lib() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    [deps.join("librsf_capi.a"), deps.parent().unwrap().join("librsf_capi.a")]
-        .into_iter()
-        .find(|p| p.exists())
-        .unwrap_or_else(|| panic!("librsf_capi.a is in neither {} nor its parent", deps.display()))
-}
-
-fn crate_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{crate_dir, static_lib};
 
 fn have(tool: &str) -> bool {
     Command::new(tool).arg("--version").output().is_ok_and(|o| o.status.success())

@@ -6,22 +6,11 @@
 //! builds, about 20); without it the test says so in one line and passes. The client's
 //! refusals run everywhere.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn crate_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The static library this test links (see abi.rs): built by cargo for this test already.
-fn static_lib() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    [deps.join("librsf_capi.a"), deps.parent().unwrap().join("librsf_capi.a")]
-        .into_iter()
-        .find(|p| p.exists())
-        .unwrap_or_else(|| panic!("librsf_capi.a is in neither {} nor its parent", deps.display()))
-}
+mod common;
+use common::{crate_dir, static_lib};
 
 fn client(qdyn: &Path, args: &[&str]) -> Output {
     Command::new("bash").arg(crate_dir().join("qdyn/run.sh")).arg(qdyn).args(args).output().unwrap()
