@@ -112,6 +112,10 @@ pub(crate) enum Command {
     /// Diagnose a record: fit a baseline, try extensions (other law, second state variable,
     /// cut-off velocity, slip trend, stiffness), name the cause and measure the gain.
     Diagnose(Box<DiagnoseArgs>),
+    /// Design the next experiment: diagnose the record, then rank velocity steps, holds and
+    /// sequences of two, appended at its end, by how well they would tell the credible causes
+    /// apart (docs/design.md).
+    Design(Box<DesignArgs>),
     /// Fit a rate-and-state model to a measured record (Levenberg-Marquardt with exact
     /// sensitivities; optional MCMC uncertainties).
     Fit(Box<FitArgs>),
@@ -205,6 +209,70 @@ pub(crate) struct DiagnoseArgs {
     /// Write a self-contained HTML report here.
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
+}
+
+#[derive(clap::Args, Debug)]
+pub(crate) struct DesignArgs {
+    /// The record.
+    pub(crate) data: PathBuf,
+    #[command(flatten)]
+    pub(crate) read: DataArgs,
+    /// Nominal machine stiffness k, 1/µm.
+    #[arg(long)]
+    pub(crate) stiffness: f64,
+    /// Baseline evolution law of the diagnosis: slip or aging.
+    #[arg(long, default_value = "slip", value_parser = word::<Baseline>)]
+    pub(crate) baseline: Baseline,
+    /// Forward-model loading of the diagnosis: record or protocol.
+    #[arg(long, default_value = "protocol", value_parser = word::<LoadingMode>)]
+    pub(crate) loading: LoadingMode,
+    /// Load-point velocities the machine can drive, µm/s: LOW,HIGH.
+    #[arg(long, default_value = "0.001,300")]
+    pub(crate) v_range: String,
+    /// Longest hold, s.
+    #[arg(long, default_value_t = 1e4)]
+    pub(crate) max_hold: f64,
+    /// Longest proposal, s of machine time.
+    #[arg(long, default_value_t = 14400.0)]
+    pub(crate) max_time: f64,
+    /// Most load-point displacement of a proposal, µm.
+    #[arg(long, default_value_t = 1000.0)]
+    pub(crate) max_slip: f64,
+    /// Models within this ΔBIC of the best are credible (besides those that fit at least as
+    /// well as the baseline).
+    #[arg(long, default_value_t = rsf_fit::design::CREDIBLE_DBIC)]
+    pub(crate) credible: f64,
+    /// Draws from each model's parameter covariance (0: the fitted parameters only).
+    #[arg(long, default_value_t = rsf_fit::design::DRAWS)]
+    pub(crate) draws: usize,
+    /// Single steps and holds only, no sequences of two.
+    #[arg(long)]
+    pub(crate) no_sequences: bool,
+    /// Proposals to print.
+    #[arg(long, default_value_t = 5)]
+    pub(crate) top: usize,
+    /// Seed of the draws and of the diagnosis's null calibration: the design is a deterministic
+    /// function of the record, the options and this seed.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Threads (0: all cores; the result does not depend on it).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) threads: usize,
+    /// Write the ranking, the models and the best proposal's predictions as JSON here.
+    #[arg(long)]
+    pub(crate) json: Option<PathBuf>,
+    /// Write the best proposal as a TOML protocol for `rsf simulate` here.
+    #[arg(long)]
+    pub(crate) protocol: Option<PathBuf>,
+    /// Write the figure (the models' predictions through the best proposal) as SVG here.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+    /// Write a self-contained HTML page (summary, figure, ranking) here.
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+    /// Also write the diagnosis it starts from as JSON here.
+    #[arg(long)]
+    pub(crate) diagnosis_json: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]

@@ -22,7 +22,7 @@ struct Output<'a> {
 
 /// A progress bar on stderr (hidden off a terminal) and the library's observer that drives it:
 /// the library reports, the CLI draws.
-fn progress_bar(template: &str) -> (indicatif::ProgressBar, rsf_fit::progress::Progress) {
+pub(crate) fn progress_bar(template: &str) -> (indicatif::ProgressBar, rsf_fit::progress::Progress) {
     let bar = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
     bar.set_style(
         indicatif::ProgressStyle::with_template(template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),

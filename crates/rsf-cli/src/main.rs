@@ -7,6 +7,7 @@
 
 mod args;
 mod batch;
+mod design;
 mod fit;
 mod output;
 mod plot;
@@ -43,6 +44,7 @@ fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Fit(args) => fit::run(&args),
         Command::Diagnose(args) => fit::diagnose(&args),
+        Command::Design(args) => design::run(&args),
         Command::Batch(args) => batch::run(&args),
         Command::Segments { data, read, json, min_ratio, min_duration } => {
             output::Files::default().input("record", &data).check()?;

@@ -47,6 +47,7 @@
 
 pub mod batch;
 pub mod data;
+pub mod design;
 pub mod diagnose;
 pub mod fit;
 pub mod lm;

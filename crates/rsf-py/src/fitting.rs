@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A record from three arrays (and optionally the normal stress, MPa), checked as the CSV
 /// reader checks a file.
-fn record(
+pub(crate) fn record(
     time: PyReadonlyArray1<f64>,
     lp: PyReadonlyArray1<f64>,
     mu: PyReadonlyArray1<f64>,
@@ -64,11 +64,11 @@ fn record(
 
 /// A closed vocabulary's value from Python's string, by the type's own `FromStr` (the one the
 /// CLI and manifests use); a `ValueError` naming the names otherwise.
-fn word<T: std::str::FromStr<Err = String>>(s: &str) -> PyResult<T> {
+pub(crate) fn word<T: std::str::FromStr<Err = String>>(s: &str) -> PyResult<T> {
     s.parse().map_err(value_error)
 }
 
-fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {
+pub(crate) fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) -> PyResult<FitOptions> {
     if !(stiffness > 0.0 && stiffness.is_finite()) {
         return Err(value_error(format!("stiffness {stiffness} must be positive and finite (1/µm)")));
     }
@@ -82,7 +82,11 @@ fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffness: bool) ->
 /// Runs `work` on a worker thread with the GIL released, polling Python's signal handlers
 /// every 50 ms on this (the main) thread; a KeyboardInterrupt sets `cancel`, waits for the
 /// work to wind down (one model evaluation) and is raised.
-fn interruptible<T: Send>(py: Python<'_>, cancel: &Arc<AtomicBool>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+pub(crate) fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &Arc<AtomicBool>,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
     std::thread::scope(|sc| {
         let h = sc.spawn(work);
         let mut interrupted = None;

@@ -6,6 +6,7 @@
 #![forbid(unsafe_code)]
 
 mod batch;
+mod design;
 mod fitting;
 mod pylaw;
 mod spec;
@@ -230,6 +231,7 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(protocol_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::diagnose_json, m)?)?;
+    m.add_function(wrap_pyfunction!(design::design_json, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_entries, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_check_options, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_row, m)?)?;

@@ -132,9 +132,9 @@ pub(super) fn reload_stiffness(p: &Prepared) -> Option<f64> {
 
 /// A fit's residuals with the noise model fitted to them, and their Whittle log-likelihood
 /// under it (the profile likelihood of the fit with its own best noise).
-pub(super) struct Noisy {
-    pub(super) model: NoiseModel,
-    pub(super) ll: f64,
+pub(crate) struct Noisy {
+    pub(crate) model: NoiseModel,
+    pub(crate) ll: f64,
 }
 
 /// The residuals of `f` and their sample times.
@@ -145,7 +145,7 @@ fn residuals(f: &FitResult) -> (Vec<f64>, &[f64]) {
 }
 
 /// The noise of `f`'s residuals ([`NoiseModel`]) and their log-likelihood under it.
-pub(super) fn noisy(f: &FitResult) -> Noisy {
+pub(crate) fn noisy(f: &FitResult) -> Noisy {
     let (r, times) = residuals(f);
     let (model, ll) = NoiseModel::fit_at(&r, times);
     Noisy { model, ll }

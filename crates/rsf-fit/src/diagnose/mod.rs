@@ -61,6 +61,7 @@ mod whittle;
 
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
+pub(crate) use evidence::noisy;
 pub use noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use parallel::par_map;
@@ -70,6 +71,7 @@ pub use reconstruction::{
 };
 pub use result::{Candidate, Diagnosis, Evidence, Gain, NoiseDrift, Secondary};
 pub use run::diagnose;
+pub(crate) use sampling::whiten;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};
 

@@ -190,6 +190,10 @@ pub struct Diagnosis {
     pub spikes_removed: Vec<f64>,
     /// The loading the diagnosis used.
     pub loading: crate::fit::LoadingMode,
+    /// The baseline's fit options as the diagnosis settled them (uniform weights, its loading,
+    /// any samples left out): each candidate's `options` is this with its extension applied.
+    #[serde(skip)]
+    pub baseline_options: Option<FitOptions>,
 }
 
 /// How much slow drift a record's residuals carry (the noise model's power-law part).

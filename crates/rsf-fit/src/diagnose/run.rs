@@ -316,6 +316,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         spikes_removed,
         loading: ctx.base_opts.loading,
         candidates: candidates.clone(),
+        baseline_options: Some(ctx.base_opts.clone()),
         baseline: ctx.base,
     })
 }

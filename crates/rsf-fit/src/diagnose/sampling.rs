@@ -428,6 +428,70 @@ fn kalman(m: &NoiseModel, r: &[f64], times: &[f64]) -> (f64, f64) {
     (ll, info)
 }
 
+/// Whitens vectors at `times` under the model's parts in time (white, OU, the drift's
+/// relaxations; a model fitted in sample index read in time, its AR(1) part as the OU of
+/// time constant `ar1_tau_s`): each vector x becomes its Kalman innovations over their
+/// standard deviations, so that xᵀΣ⁻¹y is the dot product of the whitened x and y. The white
+/// part's variance at sample i is `white_scale[i]` times the model's (a point standing for the
+/// mean of c samples: 1/c). Unlike the likelihood, the mean is kept: a constant offset
+/// between two models' predictions is information.
+pub(crate) fn whiten(m: &NoiseModel, times: &[f64], white_scale: &[f64], xs: &mut [Vec<f64>]) {
+    const K: usize = MAX_DRIFT_COMPONENTS + 1;
+    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
+    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
+    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
+        parts.push((m.ar1_tau_s, m.ar1_variance));
+    }
+    let k = parts.len().min(K);
+    let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
+    let nv = xs.len();
+    let mut x = vec![[0.0; K]; nv];
+    let mut p = [[0.0; K]; K];
+    for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
+        p[i][i] = s2;
+    }
+    let mut f = [0.0; K];
+    let mut ph = [0.0; K];
+    for (i, &t) in times.iter().enumerate() {
+        if i > 0 {
+            let d = (t - times[i - 1]).max(0.0);
+            for c in 0..k {
+                f[c] = (-d / parts[c].0).exp();
+            }
+            for xv in x.iter_mut() {
+                for c in 0..k {
+                    xv[c] *= f[c];
+                }
+            }
+            for a in 0..k {
+                for b in 0..k {
+                    p[a][b] *= f[a] * f[b];
+                }
+                p[a][a] += parts[a].1 * (1.0 - f[a] * f[a]);
+            }
+        }
+        let mut s = r_white * white_scale.get(i).copied().unwrap_or(1.0);
+        for a in 0..k {
+            ph[a] = p[a][..k].iter().sum();
+            s += ph[a];
+        }
+        let s = s.max(1e-300);
+        let sd = s.sqrt();
+        for (xv, v) in x.iter_mut().zip(xs.iter_mut()) {
+            let innov = v[i] - xv[..k].iter().sum::<f64>();
+            v[i] = innov / sd;
+            for a in 0..k {
+                xv[a] += ph[a] / s * innov;
+            }
+        }
+        for a in 0..k {
+            for b in 0..k {
+                p[a][b] -= ph[a] * ph[b] / s;
+            }
+        }
+    }
+}
+
 /// The exact Gaussian log-likelihood of residuals `r` at `times` under a model in time.
 pub(super) fn log_likelihood(m: &NoiseModel, r: &[f64], times: &[f64]) -> f64 {
     if r.len() < 2 {

@@ -4,7 +4,7 @@
 use super::params::within_bounds;
 use super::{FIT_MAX_STEPS, FitOptions, LoadingMode, ParamMap, Prepared};
 use crate::sens::solve_with_sensitivities;
-use rsf_core::{LoadRecord, Loading, Model, n_params};
+use rsf_core::{LoadRecord, Loading, Model, Segment, n_params};
 use rsf_solvers::{OutputTimes, Problem, SolveError};
 
 /// The model at θ: friction at the used samples, ∂friction/∂θ, and the integrator steps taken.
@@ -25,18 +25,32 @@ pub(super) fn evaluate(
     let full = map.full(theta);
     within_bounds(map, &full).map_err(SolveError::Input)?;
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
-    let np = n_params(map.n_states);
     let problem = forward_problem(p, opts, model);
+    let seg_of = |r: usize| p.seg_of[r];
+    with_sensitivities(&problem, map, theta, &full, rtol, &seg_of)
+}
+
+/// One forward-sensitivity solve of `problem`, mapped to the free parameters θ: friction with
+/// its segment offset (`seg_of(r)`: the segment of output row r) and ∂friction/∂θ.
+fn with_sensitivities(
+    problem: &Problem,
+    map: &ParamMap,
+    theta: &[f64],
+    full: &[f64],
+    rtol: f64,
+    seg_of: &dyn Fn(usize) -> usize,
+) -> Result<Evaluated, SolveError> {
+    let np = n_params(map.n_states);
     let m = map.free.len();
     let dfull = map.jac(theta);
     // the sensitivities the free parameters reach (a fixed k, g or Vc costs nothing)
     let wanted: Vec<bool> = (0..np).map(|j| dfull[j * m..(j + 1) * m].iter().any(|&d| d != 0.0)).collect();
-    let s = solve_with_sensitivities(&problem, rtol, rtol * 1e-4, FIT_MAX_STEPS, &wanted)?;
+    let s = solve_with_sensitivities(problem, rtol, rtol * 1e-4, FIT_MAX_STEPS, &wanted)?;
     let steps = s.stats.accepted + s.stats.rejected;
     let mut model_mu = s.mu;
     let mut raw_j = vec![0.0; model_mu.len() * m];
     for r in 0..model_mu.len() {
-        let seg = p.seg_of[r];
+        let seg = seg_of(r);
         let off_idx = if seg > 0 && map.slots.len() > np { Some(np + seg - 1) } else { None };
         if let Some(oi) = off_idx {
             model_mu[r] += full[oi];
@@ -53,6 +67,82 @@ pub(super) fn evaluate(
         }
     }
     Ok(Evaluated { model_mu, raw_j, steps })
+}
+
+/// A fitted model run on past the record: friction at new sample times after the next
+/// protocol segments are appended to the record's own (the forward model of `rsf design`).
+#[derive(Clone, Debug)]
+pub struct Prediction {
+    /// Friction at the new times (the last segment's friction offset included).
+    pub mu: Vec<f64>,
+    /// ∂friction/∂θ (free parameters in fit order, transformed scale), row-major n × m; empty
+    /// unless asked for.
+    pub jac: Vec<f64>,
+    /// Free parameters.
+    pub m: usize,
+}
+
+/// Runs the model of `map` at θ (free parameters, transformed scale, as
+/// [`super::FitResult::theta`]) from the record's start through its protocol (the segments of
+/// `p`, whatever loading the fit used) and on through `next`, and samples it at `times`
+/// (s after the end of the record's last segment). With `jac`, also ∂friction/∂θ, from one
+/// forward-sensitivity solve. σ stays at its last value after the record.
+pub fn predict(
+    p: &Prepared,
+    map: &ParamMap,
+    opts: &FitOptions,
+    theta: &[f64],
+    next: &[Segment],
+    times: &[f64],
+    jac: bool,
+) -> Result<Prediction, SolveError> {
+    let full = map.full(theta);
+    within_bounds(map, &full).map_err(SolveError::Input)?;
+    let mut model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
+    if p.segments.is_empty() || p.record.time.is_empty() {
+        return Err(SolveError::Input("the record has no segments".into()));
+    }
+    let t0 = p.record.time[0];
+    let mut segs: Vec<Segment> =
+        p.segments.iter().map(|s| Segment::for_duration(s.v, (s.t1 - s.t0).max(1e-9))).collect();
+    let end: f64 = p.segments.iter().map(|s| (s.t1 - s.t0).max(1e-9)).sum();
+    segs.extend_from_slice(next);
+    let added: f64 = next.iter().map(|s| s.duration().unwrap_or(0.0)).sum();
+    let out: Vec<f64> = times.iter().map(|t| (end + t).clamp(end, end + added)).collect();
+    if p.normal_stress.is_some() {
+        model.normal_stress = Some(p.sigma_ref);
+    }
+    let mut problem = Problem::new(model, Loading::Segments(segs), p.v_init, 1.0);
+    problem.output = OutputTimes::Times(out);
+    problem.normal_stress = p.normal_stress.as_ref().map(|h| {
+        // held at its last value through the appended segments
+        let mut h = h.shifted(-t0);
+        if let (Some(&tl), Some(&sl)) = (h.time.last(), h.sigma.last()) {
+            let t_end = end + added + 1.0;
+            if t_end > tl {
+                h.time.push(t_end);
+                h.sigma.push(sl);
+            }
+        }
+        h
+    });
+    let last_seg = p.segments.len() - 1;
+    if jac {
+        let e = with_sensitivities(&problem, map, theta, &full, opts.rtol, &|_| last_seg)?;
+        return Ok(Prediction { mu: e.model_mu, jac: e.raw_j, m: map.free.len() });
+    }
+    let alg = rsf_solvers::AutoDopri5 {
+        max_steps: FIT_MAX_STEPS,
+        ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
+    };
+    let (mut mu, _) = rsf_solvers::solve_friction(&problem, &alg)?;
+    let np = n_params(map.n_states);
+    if last_seg > 0 && map.slots.len() > np {
+        for x in &mut mu {
+            *x += full[np + last_seg - 1];
+        }
+    }
+    Ok(Prediction { mu, jac: vec![], m: map.free.len() })
 }
 
 /// Model friction at the used samples for free parameters θ (no sensitivities): the forward

@@ -285,6 +285,10 @@ impl ParamMap {
     pub fn free_names(&self) -> Vec<String> {
         self.free.iter().map(|&i| self.names[i].clone()).collect()
     }
+    /// Whether θ lies inside every parameter's physical range.
+    pub fn in_bounds(&self, theta: &[f64]) -> bool {
+        within_bounds(self, &self.full(theta)).is_ok()
+    }
     /// Whether θ entry k is a logarithm.
     pub fn is_log(&self, k: usize) -> bool {
         matches!(self.slots[self.free[k]], Slot::Free { log: true, .. })

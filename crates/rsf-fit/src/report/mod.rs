@@ -15,13 +15,16 @@
 //! | `mod.rs` | the page: [`diagnosis_html`], its style, and HTML helpers |
 //! | `words.rs` | the verdict paragraph and the names, units and formatting of parameters |
 //! | `sections.rs` | the tables: gain, effect, parameters, candidates, per-event refits, evidence |
+//! | `design.rs` | `rsf design`'s figure and page: [`design_svg`], [`design_html`] |
 //! | `charts.rs` | the SVG charts: [`fit_svg`] (`rsf fit --plot`), [`models_svg`], [`residuals_svg`], [`events_svg`] |
 
 mod charts;
+mod design;
 mod sections;
 mod words;
 
 pub use charts::{events_svg, fit_svg, fit_title, models_svg, noise_svg, residuals_svg};
+pub use design::{design_html, design_svg};
 pub use words::{effect_summary, param_rows, verdict};
 
 use crate::diagnose::Diagnosis;

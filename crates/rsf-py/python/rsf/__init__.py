@@ -39,7 +39,7 @@ from .batch import diagnose_many, fit_many  # noqa: E402  (many records; Dask)
 __all__ = [
     "State", "Model", "Protocol", "Setup", "load_protocol", "simulate", "read_record", "fit",
     "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS", "fit_many",
-    "diagnose_many",
+    "diagnose_many", "design", "Design",
 ]
 
 #: Built-in state laws by name.
@@ -232,6 +232,43 @@ class Diagnosis(_AttrDict):
         return json.dumps(dict(self), indent=indent)
 
 
+class Design(_AttrDict):
+    """A design: the dict of ``rsf design --json`` (``summary``, ``models``, ``proposals`` best
+    first, ``standard``, ``curves``, ``noise``, ``notes``); ``to_pandas()`` gives the ranking as
+    a DataFrame, ``protocol`` the best proposal as ``rsf simulate`` TOML."""
+
+    def __init__(self, raw: Mapping[str, Any], html: str, protocol: str):
+        super().__init__(raw)
+        self._html = html
+        self.protocol = protocol
+
+    def to_pandas(self):
+        """The ranking as a pandas DataFrame, one row per proposal, best first: ``rank``,
+        ``kind``, ``description``, ``machine_time_s``, ``slip_um``, ``samples``, ``score``,
+        ``score_per_hour``, ``lead_pair_dchi2`` and one ``dchi2:A|B`` column per model pair."""
+        import pandas as pd  # optional dependency
+        rows = []
+        for r in self["proposals"]:
+            row = {k: r[k] for k in ("rank", "kind", "description", "machine_time_s", "slip_um", "samples",
+                                     "score", "score_per_hour", "lead_pair_dchi2")}
+            row.update({f"dchi2:{p['a']}|{p['b']}": p["dchi2"] for p in r["pairs"]})
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+    def write_report(self, path: Union[str, os.PathLike]) -> None:
+        """Writes the HTML page (``rsf design --report``) atomically."""
+        _write_atomic(os.fspath(path), self._html)
+
+    def write_protocol(self, path: Union[str, os.PathLike]) -> None:
+        """Writes the best proposal as a TOML protocol (``rsf design --protocol``) atomically."""
+        if not self.protocol:
+            raise ValueError("there is no proposal to write: " + self["summary"])
+        _write_atomic(os.fspath(path), self.protocol)
+
+    def to_json(self, indent: Optional[int] = 2) -> str:
+        return json.dumps(dict(self), indent=indent)
+
+
 # ---------------------------------------------------------------------------- functions
 
 def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Protocol] = None, *,
@@ -381,3 +418,19 @@ def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, ba
     raw, html = _rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn, normal_stress_mode,
                                    None if report is None else os.fspath(report), name, progress)
     return Diagnosis(json.loads(raw), html)
+
+def design(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",
+           loading: str = "protocol", v_range=(0.001, 300.0), max_hold: float = 1e4, max_time: float = 14400.0,
+           max_slip: float = 1000.0, credible: float = 10.0, draws: int = 12, sequences: bool = True,
+           seed: int = 1, threads: int = 0, name: str = "record", time=None, load_point=None, mu=None) -> Design:
+    """Designs the next experiment as ``rsf design`` does: diagnoses the record, then ranks
+    velocity steps, holds and sequences of two appended at its end by how well they would tell
+    the credible models apart. A :class:`Design`; ``.to_pandas()`` is the ranking. The result
+    depends on the record, the options and ``seed`` only (not on ``threads``).
+    """
+    t, x, m, _ = _columns(record, time, load_point, mu, None)
+    lo, hi = (float(v) for v in v_range)
+    raw, html, toml = _rsf.design_json(t, x, m, stiffness, baseline, loading, (lo, hi), max_hold, max_time, max_slip,
+                                       credible, draws, sequences, seed, threads, name)
+    return Design(json.loads(raw), html, toml)
+

@@ -1,7 +1,7 @@
 # Type stubs of the rsf package (units: µm, s, µm/s, 1/µm, MPa).
 import os
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -79,6 +79,13 @@ class FitResult(dict[str, Any]):
     sample_names: list[str]
     def to_json(self, indent: Optional[int] = ...) -> str: ...
 
+class Design(dict[str, Any]):
+    protocol: str
+    def to_pandas(self) -> Any: ...  # pandas.DataFrame: the ranking
+    def write_report(self, path: Union[str, os.PathLike[str]]) -> None: ...
+    def write_protocol(self, path: Union[str, os.PathLike[str]]) -> None: ...
+    def to_json(self, indent: Optional[int] = ...) -> str: ...
+
 class Diagnosis(dict[str, Any]):
     cause: str
     candidates: list[dict[str, Any]]
@@ -149,6 +156,26 @@ def diagnose(
     mu: Optional[npt.ArrayLike] = ...,
     normal_stress: Optional[npt.ArrayLike] = ...,
 ) -> Diagnosis: ...
+def design(
+    record: Optional[Mapping[str, Any]] = ...,
+    *,
+    stiffness: float,
+    baseline: str = ...,
+    loading: str = ...,
+    v_range: Tuple[float, float] = ...,
+    max_hold: float = ...,
+    max_time: float = ...,
+    max_slip: float = ...,
+    credible: float = ...,
+    draws: int = ...,
+    sequences: bool = ...,
+    seed: int = ...,
+    threads: int = ...,
+    name: str = ...,
+    time: Optional[npt.ArrayLike] = ...,
+    load_point: Optional[npt.ArrayLike] = ...,
+    mu: Optional[npt.ArrayLike] = ...,
+) -> Design: ...
 def fit_many(
     manifest_or_paths: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
     stiffness: Optional[float] = ...,

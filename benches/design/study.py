@@ -1,0 +1,549 @@
+#!/usr/bin/env python3
+"""The simulation study of `rsf design` (issue 24): does the designed next segment resolve
+ambiguous diagnoses, compared with a standard segment of the same machine time?
+
+    python benches/design/study.py --out DIR --rsf target/release/rsf [--seed 1] [--cases 32]
+        [--threads 2] [--jobs 1] [--keep-going] [--resume] [--families a,b] [--max-tries 150]
+    python benches/design/study.py --check [--out DIR]   # generator tests, no rsf needed
+
+The truths are simulated by benches/detection/generate.py (numpy + scipy Radau, written from
+the equations); see README.md here for the families, the noise and its continuation.
+"""
+import argparse
+import importlib.util
+import io
+import json
+import math
+import subprocess
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+_spec = importlib.util.spec_from_file_location("generate", HERE.parent / "detection" / "generate.py")
+gen = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(gen)
+
+FAMILIES = ["evolution_law", "cutoff_velocity", "second_state_variable"]
+DECISIVE = 10.0            # |ΔBIC| that decides between two models
+LONG_HOLD = 1e4            # rsf design's longest hold (its default --max-hold), s
+HOLD_DT = 1.0              # holds are sampled at 1 Hz (old and new)
+PINK_HORIZON = 6 * 3600.0  # the 1/f field runs this far past the record's end (a proposal is <= 4 h)
+K_FLOOR = 1e-3             # softest machine, 1/um
+STANDARD_FALLBACK_S = 600.0
+HEADER = "time_s,load_point_um,mu"
+
+
+def log_uniform(rng, lo, hi):
+    return math.exp(rng.uniform(math.log(lo), math.log(hi)))
+
+
+# ---------------------------------------------------------------- protocols and sampling
+def sample_times(t_start, segs, dt_slide, dt_hold):
+    """Sample times after t_start through segments [(v, dur)]: n = max(1, floor(dur/dt)) samples
+    at t0 + dur k/n, k = 1..n (rsf design's sampling plan); each segment's last sample is its end."""
+    out, t0 = [], t_start
+    for v, dur in segs:
+        dt = dt_slide if v > 0 else dt_hold
+        n = max(1, int(math.floor(dur / dt + 1e-9)))
+        t1 = t0 + dur
+        out.append(np.r_[t0 + dur * np.arange(1, n) / n, t1])
+        t0 = t1
+    return np.concatenate(out) if out else np.empty(0)
+
+
+def breaks(segs, t_start=0.0):
+    return np.r_[t_start, t_start + np.cumsum([d for _, d in segs])]
+
+
+def draw_protocol(rng, family, dc, vb):
+    """Small velocity steps around vb (0.5 decade; cut-off records up to 1), each sliding a few
+    Dc, returning to vb in between; cut-off records have none or 1-3 holds of 10-100 s. Ends with
+    5-8 Dc of steady sliding at vb. Sliding is sampled every dt (0.1 or 0.2 s), holds at 1 Hz."""
+    decades = [0.5, 1.0] if family == "cutoff_velocity" else [0.5]
+    few = {"evolution_law": (2, 5), "cutoff_velocity": (3, 6), "second_state_variable": (1.5, 4)}[family]
+    holds = []
+    if family == "cutoff_velocity" and rng.random() < 0.6:
+        holds = [float(h) for h in rng.choice([10, 30, 100], size=int(rng.integers(1, 4)))]
+    t_target = rng.uniform(600, 1500)
+    segs = [(vb, rng.uniform(3, 6) * dc / vb)]
+    while len(segs) < 5 or sum(d for _, d in segs) < t_target:
+        v = vb * 10 ** (float(rng.choice(decades)) * float(rng.choice([-1, 1])))
+        segs += [(v, rng.uniform(*few) * dc / v), (vb, rng.uniform(*few) * dc / vb)]
+        if holds and rng.random() < 0.5:
+            segs += [(0.0, holds.pop()), (vb, rng.uniform(3, 6) * dc / vb)]
+    for h in holds:
+        segs += [(0.0, h), (vb, rng.uniform(3, 6) * dc / vb)]
+    segs.append((vb, rng.uniform(5, 8) * dc / vb))
+    t_slide = sum(d for v, d in segs if v > 0)
+    dt = 0.1 if t_slide <= 800 else 0.2
+    segs = [(v, max(1, round(d / dt)) * dt if v > 0 else d) for v, d in segs]   # breaks on samples
+    return segs, dt
+
+
+# ---------------------------------------------------------------- truth
+def draw_truth(rng, family):
+    """a 0.005-0.012, total b/a 1.1-1.5, Dc1 5-30 um, and the family's hidden effect."""
+    a = rng.uniform(0.005, 0.012)
+    b = a * rng.uniform(1.1, 1.5)
+    dc = log_uniform(rng, 5, 30)
+    p = dict(mu0=rng.uniform(0.55, 0.7), a=a, b=[b], dc=[dc], laws=["slip"], vc=None, g=0.0, k=None, v0=None)
+    if family == "evolution_law":            # Aging, or an Aging/Slip mixture sharing Dc
+        f = float(rng.choice([0.5, 0.75, 1.0]))
+        if f == 1.0:
+            p["laws"] = ["aging"]
+        else:
+            p.update(b=[(1 - f) * b, f * b], dc=[dc, dc], laws=["slip", "aging"])
+        effect = {"aging_share": f}
+    elif family == "second_state_variable":  # a second Slip state with a long Dc, b2 ~ b1
+        r, dc2 = rng.uniform(0.5, 1.5), dc * log_uniform(rng, 5, 30)
+        p.update(b=[b / (1 + r), b * r / (1 + r)], dc=[dc, dc2], laws=["slip", "slip"])
+        effect = {"b2": p["b"][1], "dc2": dc2}
+    else:                                    # Kato-Tullis; vc is chosen once the protocol is known
+        p["laws"], effect = ["kato-tullis"], {}
+    kc = max(0.0, sum(p["b"]) - a) / min(p["dc"])    # >= (b_i - a)/Dc_i of every state
+    p["k"] = max(K_FLOOR, kc * log_uniform(rng, 1.5, 4.0))
+    return p, effect, kc
+
+
+def build_case(family, seed, i):
+    """One case: truth, protocol, clean and noisy record. Deterministic in (family, seed, i).
+    The truth must survive (no stick-slip) a 10^4 s hold + reslide and a 2-decade step up after
+    the record (k is raised 1.5x up to 3 times, else the draw is redrawn); a cut-off's Vc is
+    drawn between 3x the slip rate such a hold would reach and 1/10 of the record's slowest."""
+    rng = np.random.default_rng([seed, FAMILIES.index(family), i])
+    for attempt in range(60):
+        p, effect, kc = draw_truth(rng, family)
+        vb = log_uniform(rng, 1.0, 10 ** 0.5)
+        segs, dt = draw_protocol(rng, family, p["dc"][0], vb)
+        if not 2500 <= sum(d / (dt if v > 0 else HOLD_DT) for v, d in segs) <= 9000:
+            continue
+        p["v0"] = vb
+        ts = np.r_[0.0, sample_times(0.0, segs, dt, HOLD_DT)]
+        test = [(0.0, LONG_HOLD), (vb, 10 * p["dc"][0]), (100 * vb, 10 * p["dc"][0])]
+        seg_all = segs + test
+        seg_t, seg_v = breaks(seg_all), [v for v, _ in seg_all]
+        ts_all = np.r_[ts, seg_t[len(segs) + 1:]]          # the record, then the test's breaks
+        i_hold_end = len(ts)                               # the first of those: the hold's end
+        if family == "cutoff_velocity":
+            twin = dict(p, laws=["slip"])
+            try:
+                Yt, _ = gen.simulate(twin, seg_t, seg_v, ts_all)
+            except gen.Unstable:
+                continue
+            v_rec, v_hold = np.exp(Yt[: len(ts), 0]).min(), math.exp(Yt[i_hold_end, 0])
+            if 3 * v_hold >= v_rec / 10:
+                continue
+            p["vc"] = log_uniform(rng, 3 * v_hold, v_rec / 10)
+            effect = {"vc": p["vc"], "v_min_record": float(v_rec), "v_after_1e4s_hold_slip_law": v_hold}
+        for _ in range(4):
+            try:
+                Y, _ = gen.simulate(p, seg_t, seg_v, ts_all)
+                break
+            except gen.Unstable:
+                p["k"] *= 1.5
+        else:
+            continue
+        Y = Y[: len(ts)]
+        if family == "cutoff_velocity" and np.exp(Y[:, 0]).min() < 10 * p["vc"]:
+            continue
+        mu = gen.friction(p, Y, vb)
+        noise = draw_noise(rng, ts, dt)
+        lp = gen.load_point(breaks(segs), [v for v, _ in segs], ts)
+        text = table_text(ts, lp, mu + noise["total"], header=True)
+        truth = {k: v for k, v in p.items() if v is not None}
+        return dict(family=family, seed=seed, index=i, attempts=attempt + 1, truth=truth, effect=effect,
+                    k_over_kc=p["k"] / kc if kc > 0 else None, segs=segs, dt=dt, ts=ts, mu_clean=mu,
+                    noise=noise, text=text, n_rows=len(ts), v_end=vb, p=p,
+                    v_min=float(np.exp(Y[:, 0]).min()), v_max=float(np.exp(Y[:, 0]).max()))
+    raise RuntimeError(f"{family} #{i}: no stable draw")
+
+
+# ---------------------------------------------------------------- noise
+def ar1(rng, ts, sigma, tau, prev=None):
+    """AR(1) of stationary sd sigma, correlation time tau, at times ts; continues from prev=(t, e)."""
+    xi, e = sigma * rng.standard_normal(len(ts)), np.empty(len(ts))
+    t_last, e_last = prev if prev is not None else (None, None)
+    for j, t in enumerate(ts):
+        if t_last is None:
+            e[j] = xi[j]
+        else:
+            phi = math.exp(-(t - t_last) / tau)
+            e[j] = phi * e_last + math.sqrt(1 - phi * phi) * xi[j]
+        t_last, e_last = t, e[j]
+    return e
+
+
+def pink_field(seed, t_end, dt):
+    """1/f noise on a uniform grid from 0 to t_end (random-phase Fourier synthesis as
+    generate.pink_noise, power ∝ 1/f from 1/T up); deterministic in seed."""
+    rng = np.random.default_rng(seed)
+    n = int(2 ** math.ceil(math.log2(t_end / dt + 2)))
+    f = np.fft.rfftfreq(n, dt)
+    amp = np.zeros_like(f)
+    amp[1:] = f[1:] ** -0.5
+    x = np.fft.irfft(amp * (rng.standard_normal(len(f)) + 1j * rng.standard_normal(len(f))), n)
+    return dt * np.arange(n), x
+
+
+def draw_noise(rng, ts, dt):
+    """White sigma 1e-4-3e-4; half the cases add AR(1) (sd 0.5-1.5 sigma, tau 1-5 s), a third
+    add mild 1/f drift (rms 0.3-1 sigma over the record) from a field that runs PINK_HORIZON on."""
+    sigma = log_uniform(rng, 1e-4, 3e-4)
+    spec = dict(white_sigma=sigma)
+    total = sigma * rng.standard_normal(len(ts))
+    ar = None
+    if rng.random() < 0.5:
+        spec.update(ar1_sigma=sigma * rng.uniform(0.5, 1.5), ar1_tau_s=rng.uniform(1, 5))
+        ar = ar1(rng, ts, spec["ar1_sigma"], spec["ar1_tau_s"])
+        total = total + ar
+    if rng.random() < 1 / 3:
+        spec.update(pink_rms=sigma * rng.uniform(0.3, 1.0), pink_seed=int(rng.integers(2 ** 62)))
+        grid, x = pink_field(spec["pink_seed"], ts[-1] + PINK_HORIZON, dt)
+        y = np.interp(ts, grid, x)
+        spec["pink_offset"], spec["pink_scale"] = float(y.mean()), spec["pink_rms"] / float(y.std())
+        total = total + (y - spec["pink_offset"]) * spec["pink_scale"]
+    return dict(spec=spec, total=total, ar_last=None if ar is None else (float(ts[-1]), float(ar[-1])))
+
+
+def continue_noise(case, t_new, rng):
+    """The same noise process at the new times: fresh white draws, the AR(1) recursion from the
+    record's last AR value, the same 1/f realization (same seed, offset and scale)."""
+    spec, n = case["noise"]["spec"], len(t_new)
+    out = spec["white_sigma"] * rng.standard_normal(n)
+    if "ar1_tau_s" in spec:
+        out += ar1(rng, t_new, spec["ar1_sigma"], spec["ar1_tau_s"], case["noise"]["ar_last"])
+    if "pink_seed" in spec:
+        grid, x = pink_field(spec["pink_seed"], case["ts"][-1] + PINK_HORIZON, case["dt"])
+        out += (np.interp(t_new, grid, x) - spec["pink_offset"]) * spec["pink_scale"]
+    return out
+
+
+# ---------------------------------------------------------------- records
+def table_text(ts, lp, mu, header=False):
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack([ts, lp, mu]), fmt="%.17g", delimiter=",",
+               header=HEADER if header else "", comments="")
+    return buf.getvalue() if header else buf.getvalue().lstrip("\n")
+
+
+def append(case, new_segs, dt_slide, dt_hold, noise_seed):
+    """The same truth through the old protocol + new segments in one run; the old rows are the
+    record's text unchanged, new rows at the given intervals with the noise continued."""
+    segs = case["segs"] + [(float(v), float(d)) for v, d in new_segs]
+    seg_t, seg_v = breaks(segs), [v for v, _ in segs]
+    t_new = sample_times(case["ts"][-1], new_segs, dt_slide, dt_hold)
+    ts = np.r_[case["ts"], t_new]
+    Y, _ = gen.simulate(case["p"], seg_t, seg_v, ts)
+    mu = gen.friction(case["p"], Y, case["p"]["v0"])
+    n_old = len(case["ts"])
+    old_dev = float(np.abs(mu[:n_old] - case["mu_clean"]).max())
+    new = mu[n_old:] + continue_noise(case, t_new, np.random.default_rng(noise_seed))
+    text = case["text"] + table_text(t_new, gen.load_point(seg_t, seg_v, t_new), new)
+    v = np.exp(Y[n_old:, 0])
+    return text, dict(rows_added=len(t_new), old_clean_max_dev=old_dev, v_min_new=float(v.min()),
+                      v_max_new=float(v.max()), mu_clean_join=[float(mu[n_old - 1]), float(mu[n_old])])
+
+
+# ---------------------------------------------------------------- rsf
+def run_rsf(opts, sub, csv, k, out_json, extra=()):
+    """Run `rsf SUB`; returns (json or None, error or None, seconds). Never raises."""
+    t = time.time()
+    if opts["resume"] and out_json.exists():
+        try:
+            return json.loads(out_json.read_text()), None, 0.0
+        except ValueError:
+            pass
+    cmd = [opts["rsf"], sub, str(csv), "--time-col", "time_s", "--lp-col", "load_point_um", "--mu-col", "mu",
+           "--stiffness", repr(float(k)), "--threads", str(opts["threads"]), "--seed", "1",
+           "--json", str(out_json), *extra]
+    try:
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=opts["timeout"])
+        if r.returncode != 0:
+            return None, f"exit {r.returncode}: {r.stderr.strip()[-400:]}", time.time() - t
+        return json.loads(out_json.read_text()), None, time.time() - t
+    except (OSError, ValueError, subprocess.SubprocessError) as e:
+        return None, f"{type(e).__name__}: {e}", time.time() - t
+
+
+def ranking(diag):
+    """(cause, ΔBIC) of the baseline (0) and every candidate with a finite ΔBIC, best first."""
+    pts = [("none", 0.0)] + [(c.get("cause"), c["delta_bic"]) for c in diag.get("candidates", [])
+                             if isinstance(c.get("delta_bic"), (int, float)) and math.isfinite(c["delta_bic"])]
+    return sorted(pts, key=lambda x: x[1])
+
+
+def summary(diag, truth):
+    r = ranking(diag)
+    gap = r[1][1] - r[0][1] if len(r) > 1 else math.inf
+    named = diag.get("cause")
+    if named == truth:
+        kind = "decided" if gap >= DECISIVE else "named_close"
+    else:
+        kind = "close" if gap < DECISIVE else "missed" if named == "none" else "wrong"
+    return dict(cause=named, best=r[0], runner=r[1] if len(r) > 1 else None, gap=gap, kind=kind,
+                runner_up=diag.get("runner_up"), undecided=diag.get("undecided"),
+                ranking=[[c, round(d, 2)] for c, d in r])
+
+
+def case_name(family, i):
+    return f"{family}_{i:03d}"
+
+
+def screen(family, i, opts):
+    """Generate case i of a family and diagnose it: is it ambiguous?"""
+    out = Path(opts["out"]) / "records"
+    name = case_name(family, i)
+    try:
+        c = build_case(family, opts["seed"], i)
+    except Exception as e:                     # noqa: BLE001 - recorded, never fatal
+        return dict(name=name, family=family, index=i, error=f"generator: {e}")
+    csv = out / f"{name}.csv"
+    csv.write_text(c["text"])
+    d, err, sec = run_rsf(opts, "diagnose", csv, c["p"]["k"], out / f"{name}.diag.json")
+    r = dict(name=name, family=family, index=i, rows=c["n_rows"], truth=c["truth"], effect=c["effect"],
+             k_over_kc=c["k_over_kc"], noise=c["noise"]["spec"], dt=c["dt"], v_end=c["v_end"],
+             protocol=[[v, d] for v, d in c["segs"]], v_min=c["v_min"], diagnose_s=round(sec, 2))
+    if err:
+        r["error"] = f"diagnose: {err}"
+    else:
+        r["first"] = summary(d, family)
+        r["ambiguous"] = r["first"]["kind"] != "decided"
+    return r
+
+
+def resolve(family, i, opts):
+    """rsf design on an ambiguous case; the design-appended and standard-appended records,
+    each re-diagnosed. Never raises: errors are recorded in the result."""
+    out = Path(opts["out"]) / "records"
+    name = case_name(family, i)
+    r = dict(name=name)
+    try:
+        c = build_case(family, opts["seed"], i)
+        csv = out / f"{name}.csv"
+        if csv.read_text() != c["text"]:
+            raise RuntimeError("the regenerated record differs from the screened one")
+        des, err, sec = run_rsf(opts, "design", csv, c["p"]["k"], out / f"{name}.design.json", opts["design_args"])
+        r["design_s"] = round(sec, 2)
+        if err:
+            r["error"] = f"design: {err}"
+            return r
+        props = des.get("proposals") or []
+        has_holds = any(v == 0 for v, _ in c["segs"])
+        dt_slide, dt_hold = c["dt"], HOLD_DT if has_holds else 1.0
+        r["design_dt"] = [des.get("dt_slide_s"), des.get("dt_hold_s")]
+        r["design_models"] = [[m.get("name"), m.get("delta_bic")] for m in des.get("models", [])]
+        r["design_summary"] = des.get("summary")
+        v_end = float(des.get("v_end") or c["v_end"])
+        if props:
+            top = props[0]
+            r["proposal"] = {k: top.get(k) for k in ("segments", "machine_time_s", "slip_um", "description",
+                                                     "kind", "score", "lead_pair_dchi2", "samples")}
+            std = (des.get("standard") or {}).get("segments") or \
+                [[v_end / 10, top["machine_time_s"] / 2], [v_end, top["machine_time_s"] / 2]]
+        else:
+            r["proposal"] = None                  # design had nothing to propose: not resolved
+            std = [[v_end / 10, STANDARD_FALLBACK_S / 2], [v_end, STANDARD_FALLBACK_S / 2]]
+        r["standard"] = std
+        for which, segs in (("design", r["proposal"] and r["proposal"]["segments"]), ("standard", std)):
+            if not segs:
+                continue
+            res = r[which + "_run"] = {}
+            try:
+                text, info = append(c, segs, dt_slide, dt_hold, [opts["seed"], FAMILIES.index(family), i, 99])
+            except gen.Unstable as e:
+                res.update(cause=None, error=f"the truth stick-slips through this segment: {e}")
+                continue
+            res.update(info)
+            app = out / f"{name}.{which}.csv"
+            app.write_text(text)
+            d, err, sec = run_rsf(opts, "diagnose", app, c["p"]["k"], out / f"{name}.{which}.diag.json")
+            res["diagnose_s"] = round(sec, 2)
+            if err:
+                res.update(cause=None, error=f"diagnose: {err}")
+            else:
+                res.update(summary(d, family))
+            if not opts["keep_records"]:
+                app.unlink()
+    except Exception as e:                     # noqa: BLE001 - recorded, never fatal
+        r["error"] = f"{type(e).__name__}: {e}"
+    return r
+
+
+def resolved(case, which):
+    run = case.get(which + "_run") or {}
+    return run.get("cause") == case["family"]
+
+
+# ---------------------------------------------------------------- report
+def tables(cases):
+    rows = ["| family | cases | design resolved | % | standard resolved | % | design/standard | "
+            "nothing proposed | errors |", "|---|---|---|---|---|---|---|---|---|"]
+    for fam in FAMILIES + ["all"]:
+        cs = [c for c in cases if fam in ("all", c["family"])]
+        if not cs:
+            continue
+        n = len(cs)
+        nd, ns = sum(resolved(c, "design") for c in cs), sum(resolved(c, "standard") for c in cs)
+        ratio = f"{nd / ns:.2f}" if ns else ("∞" if nd else "–")
+        none = sum(1 for c in cs if "proposal" in c and c["proposal"] is None)
+        errs = sum(1 for c in cs if c.get("error") or any((c.get(w + "_run") or {}).get("error")
+                                                          for w in ("design", "standard")))
+        rows.append(f"| {fam} | {n} | {nd} | {100 * nd / n:.0f} | {ns} | {100 * ns / n:.0f} | {ratio} | "
+                    f"{none} | {errs} |")
+    n = len(cases)
+    nd, ns = sum(resolved(c, "design") for c in cases), sum(resolved(c, "standard") for c in cases)
+    goal = (f"\nGoal (designed ≥ 80 % and ≥ 2× standard): designed {100 * nd / max(n, 1):.0f} %, "
+            f"standard {100 * ns / max(n, 1):.0f} % → {'met' if n and nd >= 0.8 * n and nd >= 2 * ns else 'not met'}\n")
+    det = ["\n| case | first diagnosis (kind, gap) | design's proposal | s | after design | after standard |",
+           "|---|---|---|---|---|---|"]
+    for c in cases:
+        f = c.get("first", {})
+        p = c.get("proposal")
+        cell = lambda w: (c.get(w + "_run") or {}).get("cause") or (c.get(w + "_run") or {}).get("error", "–")[:40]
+        det.append(f"| {c['name']} | {f.get('cause')} ({f.get('kind')}, {f.get('gap', math.nan):.1f}) | "
+                   f"{(p or {}).get('description', 'nothing proposed' if 'proposal' in c else c.get('error', '–')[:60])} | "
+                   f"{(p or {}).get('machine_time_s') or 0:.0f} | {cell('design')} | {cell('standard')} |")
+    return "\n".join(rows) + "\n" + goal + "\n".join(det) + "\n"
+
+
+# ---------------------------------------------------------------- driver
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def study(args):
+    out = Path(args.out)
+    (out / "records").mkdir(parents=True, exist_ok=True)
+    opts = dict(out=str(out), rsf=str(args.rsf), seed=args.seed, threads=args.threads, timeout=args.timeout,
+                resume=args.resume, keep_records=args.keep_records, design_args=args.design_arg or [])
+    fams = [f for f in FAMILIES if f in args.families.split(",")]
+    quota = {f: args.cases // len(fams) + (j < args.cases % len(fams)) for j, f in enumerate(fams)}
+    screened, kept, tries = {f: {} for f in fams}, {f: [] for f in fams}, {f: 0 for f in fams}
+    fails = [0, 0]                                    # rsf errors, rsf successes
+    t0 = time.time()
+
+    def need(f):
+        return len(kept[f]) < quota[f] and tries[f] < args.max_tries
+
+    def check_broken(err):
+        fails[0 if err else 1] += 1
+        if not args.keep_going and fails[1] == 0 and fails[0] >= 3:
+            sys.exit(f"the first {fails[0]} rsf runs all failed (last: {err}); check --rsf, or use --keep-going")
+
+    with ProcessPoolExecutor(max_workers=args.jobs) as ex:
+        # 1. screening: cases in order per family until each family has its quota of ambiguous ones
+        pending = {}
+        while True:
+            while len(pending) < args.jobs and any(need(f) for f in fams):
+                f = min((f for f in fams if need(f)), key=lambda f: tries[f])    # round robin
+                pending[ex.submit(screen, f, tries[f], opts)] = (f, tries[f])
+                tries[f] += 1
+            if not pending:
+                break
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                f, i = pending.pop(fut)
+                r = fut.result()
+                screened[f][i] = r
+                if "generator" not in r.get("error", ""):
+                    check_broken(r.get("error"))
+                if r.get("ambiguous"):
+                    kept[f].append(i)
+                fr = r.get("first", {})
+                log(f"[{time.time() - t0:6.0f}s] screen {r['name']}: {r.get('error') or fr['cause']} "
+                    f"({fr.get('kind')}, gap {fr.get('gap', math.nan):.1f}) rows={r.get('rows')} "
+                    f"{r.get('diagnose_s', 0):.0f}s  kept {len(kept[f])}/{quota[f]}")
+        chosen = [(f, i) for f in fams for i in sorted(kept[f])[: quota[f]]]
+        for f in fams:
+            if len(kept[f]) < quota[f]:
+                log(f"warning: {f}: only {len(kept[f])} ambiguous cases in {tries[f]} tries")
+        # 2. design + the two appended records, re-diagnosed
+        cases, futs = [], {ex.submit(resolve, f, i, opts): (f, i) for f, i in chosen}
+        for fut in futs:                               # results in the chosen (deterministic) order
+            f, i = futs[fut]
+            r = {**screened[f][i], **fut.result()}
+            cases.append(r)
+            check_broken(r.get("error") if str(r.get("error", "")).startswith("design") else None)
+            log(f"[{time.time() - t0:6.0f}s] case {r['name']}: proposal "
+                f"{(r.get('proposal') or {}).get('description', r.get('error', 'nothing proposed'))}; "
+                f"design → {(r.get('design_run') or {}).get('cause')}, standard → "
+                f"{(r.get('standard_run') or {}).get('cause')} (truth {f})")
+            write_results(out, args, screened, cases)
+    md = tables(cases)
+    write_results(out, args, screened, cases, md)
+    print(md)
+
+
+def write_results(out, args, screened, cases, md=None):
+    doc = dict(settings={k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()},
+               screened=[r for f in screened.values() for _, r in sorted(f.items())], cases=cases)
+    (out / "study.json").write_text(json.dumps(doc, indent=1, default=float))
+    if md:
+        (out / "study.md").write_text(f"# rsf design study (seed {args.seed})\n\n" + md)
+
+
+def self_check(out):
+    """Generator tests without rsf: one case per family, appended with a long hold + step and with
+    the standard segment; the old rows byte-identical, the clean old friction identical, the join
+    continuous within noise, the run deterministic."""
+    ok = True
+    for j, fam in enumerate(FAMILIES):
+        t = time.time()
+        c = build_case(fam, 1, j)
+        again = build_case(fam, 1, j)
+        sd = math.sqrt(sum(c["noise"]["spec"].get(k, 0) ** 2 for k in ("white_sigma", "ar1_sigma", "pink_rms")))
+        log(f"{fam}: rows={c['n_rows']} dt={c['dt']} k={c['p']['k']:.3g} (k/kc {c['k_over_kc']:.2f}) "
+            f"effect={c['effect']} noise={ {k: round(v, 6) for k, v in c['noise']['spec'].items() if k != 'pink_seed'} } "
+            f"V=[{c['v_min']:.3g},{c['v_max']:.3g}] tries={c['attempts']} {time.time() - t:.1f}s")
+        ok &= again["text"] == c["text"]
+        for label, segs in (("hold+step", [[0.0, 3000.0], [c["v_end"], 60.0], [10 * c["v_end"], 30.0]]),
+                            ("standard", [[c["v_end"] / 10, 300.0], [c["v_end"], 300.0]])):
+            text, info = append(c, segs, c["dt"], HOLD_DT, [1, j, 99])
+            old_same = text.startswith(c["text"])
+            rows = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1)
+            n = c["n_rows"]
+            jump, clean_jump = rows[n, 2] - rows[n - 1, 2], info["mu_clean_join"][1] - info["mu_clean_join"][0]
+            cont = abs(jump - clean_jump) < 6 * sd
+            mono = bool(np.all(np.diff(rows[:, 0]) > 0)) and abs(rows[n, 1] - rows[n - 1, 1]) < 1.01 * segs[0][0] * (rows[n, 0] - rows[n - 1, 0]) + 1e-9
+            log(f"   {label:9s}: +{info['rows_added']} rows, old text identical={old_same}, old clean max dev="
+                f"{info['old_clean_max_dev']:.1e}, join Δμ={jump:.2e} (clean {clean_jump:.2e}, noise sd {sd:.1e}) "
+                f"continuous={cont}, times/load point ok={mono}, V new=[{info['v_min_new']:.3g},{info['v_max_new']:.3g}]")
+            ok &= old_same and info["old_clean_max_dev"] == 0.0 and cont and mono
+            if out:
+                Path(out).mkdir(parents=True, exist_ok=True)
+                (Path(out) / f"check_{fam}.csv").write_text(c["text"])
+                (Path(out) / f"check_{fam}_{label.replace('+', '_')}.csv").write_text(text)
+    log("check: " + ("all passed" if ok else "FAILED"))
+    return ok
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", type=Path)
+    ap.add_argument("--rsf", type=Path, default=HERE.parent.parent / "target" / "release" / "rsf")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--cases", type=int, default=32, help="ambiguous cases in all (split over the families)")
+    ap.add_argument("--threads", type=int, default=2, help="threads of each rsf run")
+    ap.add_argument("--jobs", type=int, default=1, help="cases run concurrently")
+    ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--max-tries", type=int, default=150, help="cases generated per family at most")
+    ap.add_argument("--timeout", type=float, default=3600, help="s per rsf run")
+    ap.add_argument("--keep-going", action="store_true", help="do not stop when the first rsf runs all fail")
+    ap.add_argument("--resume", action="store_true", help="reuse rsf JSON outputs already in --out")
+    ap.add_argument("--keep-records", action="store_true", help="keep the appended CSVs (else deleted)")
+    ap.add_argument("--design-arg", action="append", help="extra argument for rsf design (repeatable)")
+    ap.add_argument("--check", action="store_true", help="test the generator part only (no rsf)")
+    args = ap.parse_args()
+    if args.check:
+        sys.exit(0 if self_check(args.out) else 1)
+    if not args.out:
+        ap.error("give --out DIR (or --check)")
+    study(args)
+
+
+if __name__ == "__main__":
+    main()

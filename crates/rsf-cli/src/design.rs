@@ -1,0 +1,137 @@
+//! `rsf design`: diagnose the record, then rank the next segments by how well they would tell
+//! the credible causes apart.
+
+use crate::args::DesignArgs;
+use anyhow::{Result, bail};
+use rsf_fit::design::{DesignOptions, protocol_toml};
+use rsf_fit::diagnose::DiagnoseOptions;
+use rsf_fit::fit::FitOptions;
+use rsf_fit::segment::{SegmentOptions, detect};
+use std::time::Instant;
+
+/// `LOW,HIGH` (µm/s), both positive, LOW ≤ HIGH.
+fn v_range(s: &str) -> Result<(f64, f64)> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [lo, hi] = parts[..] else { bail!("--v-range `{s}`: expected LOW,HIGH in µm/s, e.g. 0.001,300") };
+    let (lo, hi): (f64, f64) = match (lo.parse(), hi.parse()) {
+        (Ok(a), Ok(b)) => (a, b),
+        _ => bail!("--v-range `{s}`: LOW and HIGH must be numbers (µm/s)"),
+    };
+    if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+        bail!("--v-range `{s}`: needs 0 < LOW ≤ HIGH");
+    }
+    Ok((lo, hi))
+}
+
+pub fn run(a: &DesignArgs) -> Result<()> {
+    let start = Instant::now();
+    crate::output::Files::default()
+        .input("record", &a.data)
+        .output("--json", a.json.as_deref())
+        .output("--protocol", a.protocol.as_deref())
+        .output("--plot", a.plot.as_deref())
+        .output("--report", a.report.as_deref())
+        .output("--diagnosis-json", a.diagnosis_json.as_deref())
+        .check()?;
+    if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
+        bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
+    }
+    for (name, x) in [("--max-time", a.max_time), ("--max-slip", a.max_slip)] {
+        if !(x > 0.0 && x.is_finite()) {
+            bail!("{name} {x} must be positive and finite");
+        }
+    }
+    if !(a.max_hold >= 0.0 && a.max_hold.is_finite()) {
+        bail!("--max-hold {} must be zero or positive (s)", a.max_hold);
+    }
+    if !(a.credible >= 0.0) {
+        bail!("--credible {} must not be negative", a.credible);
+    }
+    let o = DesignOptions {
+        credible_dbic: a.credible,
+        v_range: v_range(&a.v_range)?,
+        max_hold: a.max_hold,
+        max_time: a.max_time,
+        max_slip: a.max_slip,
+        draws: a.draws,
+        sequences: !a.no_sequences,
+        seed: a.seed,
+        threads: a.threads,
+        progress: None,
+    };
+    let mut fo = FitOptions::new(vec![a.baseline.law().with_starting_values()], a.stiffness);
+    fo.loading = a.loading;
+    fo.normal_stress = a.read.normal_stress_mode;
+    let rec = a.read.read(&a.data)?;
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    eprintln!("rsf design: {} samples, {} segments; diagnosing first…", rec.len(), segs.len());
+    let (bar, progress) = crate::fit::progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
+    let dopts =
+        DiagnoseOptions { seed: a.seed, threads: a.threads, progress: Some(progress), ..DiagnoseOptions::new(fo) };
+    let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts)?;
+    bar.finish_and_clear();
+    let t_diag = start.elapsed().as_secs_f64();
+    eprintln!("rsf design: diagnosis in {t_diag:.1} s (cause: {}); scoring the proposals…", d.cause);
+    let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
+    let design = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { progress: Some(progress), ..o })?;
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    let mut out = format!("cause: {} ({})\n", d.cause, d.reason);
+    out += "credible models:";
+    for m in &design.models {
+        out += &format!(" {} (ΔBIC {:.1}, {} draws);", m.name, m.delta_bic, m.draws);
+    }
+    out.pop();
+    out += "\n";
+    for n in &design.notes {
+        out += &format!("note: {n}\n");
+    }
+    out += &format!("{}\n", design.summary);
+    if !design.proposals.is_empty() {
+        out += &format!(
+            "{:>3}  {:>9} {:>9} {:>6} {:>9} {:>8}  proposal\n",
+            "#", "time_s", "slip_um", "score", "lead_Δχ²", "score/h"
+        );
+        let row = |label: String, r: &rsf_fit::design::Ranked| {
+            format!(
+                "{label:>3}  {:>9.0} {:>9.1} {:>6.2} {:>9.1} {:>8.2}  {}\n",
+                r.machine_time_s, r.slip_um, r.score, r.lead_pair_dchi2, r.score_per_hour, r.description
+            )
+        };
+        for r in design.proposals.iter().take(a.top) {
+            out += &row(r.rank.to_string(), r);
+        }
+        if let Some(s) = &design.standard {
+            out += &row("std".into(), s);
+        }
+    }
+    crate::write_stdout(&out)?;
+    eprintln!("rsf design: {wall:.1} s ({t_diag:.1} s diagnosis, {:.1} s design)", wall - t_diag);
+    if let Some(j) = &a.json {
+        let mut v = serde_json::to_value(&design)?;
+        v["data"] = serde_json::json!(a.data.display().to_string());
+        crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
+    }
+    if let Some(j) = &a.diagnosis_json {
+        let mut v = serde_json::to_value(&d)?;
+        v["data"] = serde_json::json!(a.data.display().to_string());
+        crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
+    }
+    if let Some(p) = &a.protocol {
+        match protocol_toml(&design, 1) {
+            Some(t) => crate::output::write_bytes(p, t)?,
+            None => bail!("--protocol: there is no proposal to write ({})", design.summary),
+        }
+    }
+    if let Some(p) = &a.plot {
+        match rsf_fit::report::design_svg(&design) {
+            Ok(svg) => crate::output::write_bytes(p, svg)?,
+            Err(e) => bail!("--plot: {e}"),
+        }
+    }
+    if let Some(r) = &a.report {
+        let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        crate::output::write_bytes(r, rsf_fit::report::design_html(&design, &name))?;
+    }
+    Ok(())
+}

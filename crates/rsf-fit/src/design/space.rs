@@ -1,0 +1,289 @@
+//! The proposals: velocity steps and slide–hold–reslides appended at the record's end, and
+//! sequences of two; each as protocol segments, machine time, slip, and the samples a lab
+//! would record.
+
+use super::DesignOptions;
+use serde::Serialize;
+
+/// Step sizes, decades (up and down): the range of lab velocity steps.
+pub const STEP_DECADES: [f64; 7] = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5];
+/// Slip after a step, in units of the baseline's Dc: 3 Dc brings a state to within e⁻³ of its
+/// new steady state, 30 Dc shows a slow second state or a trend.
+pub const STEP_SLIP_DC: [f64; 3] = [3.0, 10.0, 30.0];
+/// Hold times, s: a log grid over the lab's range (10–10⁴ s).
+pub const HOLD_TIMES: [f64; 7] = [10.0, 30.0, 100.0, 300.0, 1000.0, 3000.0, 10000.0];
+/// Reslide distance after a hold, in units of the baseline's Dc: the peak and most of its decay
+/// (3 Dc), or the return to steady state (10 Dc).
+pub const RESLIDE_DC: [f64; 2] = [3.0, 10.0];
+/// Sequences are formed from this many of the best single proposals (ordered pairs).
+pub const SEQUENCE_SEEDS: usize = 6;
+/// Prediction points per segment: the samples themselves up to this many, else this many
+/// samples on a geometric grid from the segment's start (where transients are), each standing
+/// for the samples around it.
+pub const POINTS_PER_SEGMENT: usize = 150;
+
+/// One building block of a proposal.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Primitive {
+    /// Load-point velocity `v` (µm/s) for `slip` µm.
+    Step {
+        /// Velocity, µm/s.
+        v: f64,
+        /// Load-point displacement, µm.
+        slip: f64,
+    },
+    /// A hold of `hold_s` s, then a reslide at `v` (µm/s) for `slip` µm.
+    Hold {
+        /// Hold time, s.
+        hold_s: f64,
+        /// Reslide velocity, µm/s.
+        v: f64,
+        /// Reslide displacement, µm.
+        slip: f64,
+    },
+}
+
+impl Primitive {
+    /// (velocity µm/s, duration s) of its protocol segments.
+    pub fn segments(&self) -> Vec<(f64, f64)> {
+        match *self {
+            Primitive::Step { v, slip } => vec![(v, slip / v)],
+            Primitive::Hold { hold_s, v, slip } => vec![(0.0, hold_s), (v, slip / v)],
+        }
+    }
+
+    /// In words, with the step relative to `v_from` µm/s.
+    pub fn describe(&self, v_from: f64) -> String {
+        match *self {
+            Primitive::Step { v, slip } => {
+                let d = (v / v_from).log10();
+                let dir = if d >= 0.0 { "up" } else { "down" };
+                format!("step {dir} {:.1} decades to {} µm/s for {} µm", d.abs(), num(v), num(slip))
+            }
+            Primitive::Hold { hold_s, v, slip } => {
+                format!("hold {} s, reslide at {} µm/s for {} µm", num(hold_s), num(v), num(slip))
+            }
+        }
+    }
+
+    fn end_velocity(&self) -> f64 {
+        match *self {
+            Primitive::Step { v, .. } | Primitive::Hold { v, .. } => v,
+        }
+    }
+}
+
+/// Three significant digits, without trailing zeros.
+pub(crate) fn num(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let mag = x.abs().log10().floor() as i32;
+    let dec = (2 - mag).max(0) as usize;
+    let s = format!("{x:.dec$}");
+    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+}
+
+/// A proposal: one primitive or a sequence of two, appended at the record's end.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Proposal {
+    /// Its primitives, in order.
+    pub parts: Vec<Primitive>,
+}
+
+impl Proposal {
+    /// (velocity µm/s, duration s) of every protocol segment.
+    pub fn segments(&self) -> Vec<(f64, f64)> {
+        self.parts.iter().flat_map(|p| p.segments()).collect()
+    }
+
+    /// Machine time, s.
+    pub fn machine_time(&self) -> f64 {
+        self.segments().iter().map(|s| s.1).sum()
+    }
+
+    /// Load-point displacement, µm.
+    pub fn slip(&self) -> f64 {
+        self.segments().iter().map(|(v, d)| v * d).sum()
+    }
+
+    /// The kind, as in JSON: `step`, `hold` or `sequence`.
+    pub fn kind(&self) -> &'static str {
+        match self.parts[..] {
+            [Primitive::Step { .. }] => "step",
+            [Primitive::Hold { .. }] => "hold",
+            _ => "sequence",
+        }
+    }
+
+    /// In words, starting from `v_end` µm/s.
+    pub fn describe(&self, v_end: f64) -> String {
+        let mut from = v_end;
+        let mut words = vec![];
+        for p in &self.parts {
+            words.push(p.describe(from));
+            from = p.end_velocity();
+        }
+        words.join("; then ")
+    }
+
+    fn fits(&self, o: &DesignOptions) -> bool {
+        let holds_ok = self.parts.iter().all(|p| match *p {
+            Primitive::Hold { hold_s, .. } => hold_s <= o.max_hold * (1.0 + 1e-9),
+            Primitive::Step { .. } => true,
+        });
+        holds_ok && self.machine_time() <= o.max_time * (1.0 + 1e-9) && self.slip() <= o.max_slip * (1.0 + 1e-9)
+    }
+}
+
+/// The single proposals from the record's end velocity `v_end` (µm/s) on the slip scale
+/// `dc_ref` µm (the baseline's Dc), within the options' constraints. A slip longer than the constraints allow
+/// is shortened to the most they allow once (so a long-Dc model still gets its longest step).
+pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions) -> Vec<Proposal> {
+    let mut out: Vec<Proposal> = vec![];
+    let mut push = |p: Proposal| {
+        if p.fits(o) && !out.contains(&p) {
+            out.push(p);
+        }
+    };
+    let in_range = |v: f64| v >= o.v_range.0 * (1.0 - 1e-9) && v <= o.v_range.1 * (1.0 + 1e-9);
+    for &d in &STEP_DECADES {
+        for sign in [-1.0, 1.0] {
+            let v = v_end * 10f64.powf(sign * d);
+            if !in_range(v) {
+                continue;
+            }
+            for &m in &STEP_SLIP_DC {
+                let slip = (m * dc_ref).min(o.max_slip).min(v * o.max_time);
+                push(Proposal { parts: vec![Primitive::Step { v, slip }] });
+            }
+        }
+    }
+    if in_range(v_end) {
+        for &h in HOLD_TIMES.iter().filter(|&&h| h <= o.max_hold) {
+            for &m in &RESLIDE_DC {
+                let slip = (m * dc_ref).min(o.max_slip).min(v_end * (o.max_time - h).max(0.0));
+                if slip > 0.0 {
+                    push(Proposal { parts: vec![Primitive::Hold { hold_s: h, v: v_end, slip }] });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Sequences of two of `best` (ordered pairs of different proposals) within the constraints.
+pub fn sequences(best: &[Proposal], o: &DesignOptions) -> Vec<Proposal> {
+    let mut out = vec![];
+    for (i, a) in best.iter().enumerate() {
+        for (j, b) in best.iter().enumerate() {
+            if i == j {
+                continue;
+            }
+            let p = Proposal { parts: a.parts.iter().chain(&b.parts).copied().collect() };
+            if p.fits(o) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// The standard next segment of a lab of `machine_time` s: a one-decade step down from `v_end`
+/// and back, half the time each (the comparison of the design study), shortened to `max_slip`
+/// µm of displacement when the time would slide further.
+pub fn standard(v_end: f64, machine_time: f64, max_slip: f64) -> Proposal {
+    let v1 = v_end / 10.0;
+    let half = (machine_time / 2.0).min(max_slip / (v1 + v_end));
+    Proposal {
+        parts: vec![Primitive::Step { v: v1, slip: v1 * half }, Primitive::Step { v: v_end, slip: v_end * half }],
+    }
+}
+
+/// The samples a proposal would record and the points it is predicted at.
+#[derive(Clone, Debug)]
+pub struct Sampling {
+    /// Prediction times, s after the record's end.
+    pub times: Vec<f64>,
+    /// Samples each point stands for (its white noise is divided by this).
+    pub counts: Vec<f64>,
+    /// Samples the lab would record.
+    pub samples: usize,
+}
+
+/// The sampling plan of `proposal`: the record's own interval while sliding (`dt_slide`, s) and
+/// in holds (`dt_hold`), each segment's samples thinned to [`POINTS_PER_SEGMENT`] points on a
+/// geometric grid from its start.
+pub fn sampling(proposal: &Proposal, dt_slide: f64, dt_hold: f64) -> Sampling {
+    let (mut times, mut counts, mut samples) = (vec![], vec![], 0);
+    let mut t0 = 0.0;
+    for (v, dur) in proposal.segments() {
+        let dt = if v > 0.0 { dt_slide } else { dt_hold };
+        let n = ((dur / dt).floor() as usize).max(1);
+        samples += n;
+        // sample indices 1..=n kept: all, or a geometric grid (consecutive at the start)
+        let keep: Vec<usize> = if n <= POINTS_PER_SEGMENT {
+            (1..=n).collect()
+        } else {
+            let mut k: Vec<usize> = (0..POINTS_PER_SEGMENT)
+                .map(|g| ((n as f64).powf(g as f64 / (POINTS_PER_SEGMENT - 1) as f64)).round() as usize)
+                .collect();
+            k.dedup();
+            k
+        };
+        for (g, &k) in keep.iter().enumerate() {
+            // the samples between the midpoints to the neighbouring kept ones
+            let lo = if g == 0 { 0.5 } else { 0.5 * (keep[g - 1] + k) as f64 };
+            let hi = if g + 1 == keep.len() { n as f64 + 0.5 } else { 0.5 * (k + keep[g + 1]) as f64 };
+            times.push(t0 + dur * k as f64 / n as f64);
+            counts.push((hi - lo).max(1e-9));
+        }
+        t0 += dur;
+    }
+    Sampling { times, counts, samples }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn singles_respect_the_constraints() {
+        let o = DesignOptions { v_range: (0.01, 100.0), max_hold: 1000.0, max_time: 2000.0, ..Default::default() };
+        let s = singles(1.0, 10.0, &o);
+        assert!(!s.is_empty());
+        for p in &s {
+            assert!(p.machine_time() <= 2000.0 * (1.0 + 1e-9), "{p:?}");
+            for (v, _) in p.segments() {
+                assert!(v == 0.0 || (0.01 * (1.0 - 1e-9)..=100.0 * (1.0 + 1e-9)).contains(&v), "{p:?}");
+            }
+        }
+        // a 3000 s hold is over max_hold; 2 decades down is inside the range, 2.5 is not
+        assert!(!s.iter().any(|p| matches!(p.parts[0], Primitive::Hold { hold_s, .. } if hold_s > 1000.0)));
+        assert!(s.iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if (v - 0.01).abs() < 1e-12)));
+        assert!(!s.iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if v < 0.009)));
+    }
+
+    #[test]
+    fn sampling_stands_for_every_sample() {
+        let p = Proposal { parts: vec![Primitive::Hold { hold_s: 1000.0, v: 1.0, slip: 50.0 }] };
+        let s = sampling(&p, 0.1, 1.0);
+        assert_eq!(s.samples, 1000 + 500);
+        let total: f64 = s.counts.iter().sum();
+        assert!((total - 1500.0).abs() < 1e-6, "{total}");
+        assert!(s.times.windows(2).all(|w| w[1] > w[0]));
+        assert!((s.times.last().unwrap() - 1050.0).abs() < 1e-9);
+        assert!(s.times.len() <= 2 * POINTS_PER_SEGMENT && s.times.len() > POINTS_PER_SEGMENT);
+    }
+
+    #[test]
+    fn the_standard_segment_has_the_time_asked() {
+        let p = standard(3.0, 600.0, 1e4);
+        assert!((p.machine_time() - 600.0).abs() < 1e-9);
+        assert_eq!(p.segments()[0].0, 0.3);
+        // 600 s would slide 990 µm: shortened to 500
+        let q = standard(3.0, 600.0, 500.0);
+        assert!((q.slip() - 500.0).abs() < 1e-9 && q.machine_time() < 600.0);
+    }
+}

@@ -1,0 +1,65 @@
+//! `rsf.design`: the next experiment, as `rsf design` does.
+
+use crate::fitting::{fit_options, interruptible, record, word};
+use crate::value_error;
+use numpy::PyReadonlyArray1;
+use pyo3::prelude::*;
+use rsf_fit::design::{DesignOptions, design as run_design, protocol_toml};
+use rsf_fit::diagnose::DiagnoseOptions;
+use rsf_fit::segment::{SegmentOptions, detect};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+/// Designs the next segment of a record (arrays) as `rsf design` does; returns the design's
+/// JSON, the HTML page and the best proposal's TOML protocol (empty when there is none).
+#[pyfunction]
+#[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", v_range=(1e-3, 300.0),
+    max_hold=1e4, max_time=14400.0, max_slip=1000.0, credible=rsf_fit::design::CREDIBLE_DBIC,
+    draws=rsf_fit::design::DRAWS, sequences=true, seed=1, threads=0, name="record"))]
+#[allow(clippy::too_many_arguments)]
+pub fn design_json(
+    py: Python<'_>,
+    time: PyReadonlyArray1<f64>,
+    load_point: PyReadonlyArray1<f64>,
+    mu: PyReadonlyArray1<f64>,
+    stiffness: f64,
+    baseline: &str,
+    loading: &str,
+    v_range: (f64, f64),
+    max_hold: f64,
+    max_time: f64,
+    max_slip: f64,
+    credible: f64,
+    draws: usize,
+    sequences: bool,
+    seed: u64,
+    threads: usize,
+    name: &str,
+) -> PyResult<(String, String, String)> {
+    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
+    let rec = record(time, load_point, mu, None)?;
+    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    fo.cancel = Some(cancel.clone());
+    let dopts = DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) };
+    let o = DesignOptions {
+        credible_dbic: credible,
+        v_range,
+        max_hold,
+        max_time,
+        max_slip,
+        draws,
+        sequences,
+        seed,
+        threads,
+        progress: None,
+    };
+    let (_, d) = interruptible(py, &cancel, || {
+        let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+        run_design(&rec, &segs, &dopts, &o).map_err(|e| e.to_string())
+    })?
+    .map_err(value_error)?;
+    let html = rsf_fit::report::design_html(&d, name);
+    let toml = protocol_toml(&d, 1).unwrap_or_default();
+    Ok((serde_json::to_string(&d).map_err(value_error)?, html, toml))
+}
