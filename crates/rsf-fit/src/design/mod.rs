@@ -1,7 +1,8 @@
 //! Experiment design: the next protocol segment, appended at the record's end, that best tells
 //! the credible models of a diagnosis apart (`rsf design`).
 //!
-//! 1. The credible models: the baseline and every candidate extension of the diagnosis whose
+//! 1. The credible models: the model of the diagnosis's cause (the baseline for `none`), and
+//!    every candidate extension of the diagnosis whose
 //!    ΔBIC lies within [`DesignOptions::credible_dbic`] of the best, Occam's penalty for the
 //!    parameters it adds (Δk ln n) not counted against it: while the best is the baseline, an
 //!    extension that gains nothing because the record never went where its effect lives stays

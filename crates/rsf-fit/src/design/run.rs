@@ -154,9 +154,10 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
     })
 }
 
-/// The credible models, best first: the baseline and each candidate with a fit, no parameter
-/// at a bound, an effect the record resolves, and a ΔBIC within the window of the best or a fit
-/// at least as good as the baseline's.
+/// The credible models, best first: the model of the diagnosis's cause (the baseline for
+/// `none`: a candidate that scores better but failed a check is not yet the answer), and each
+/// candidate with a fit, no parameter at a bound, an effect the record resolves, and a ΔBIC
+/// within the window of the best, its Occam penalty not counted.
 fn credible<'a>(
     rec: &Record,
     segs: &[Segment],
@@ -203,7 +204,7 @@ fn credible<'a>(
     // stays credible while the best is the baseline
     let mut keep: Vec<(DesignModel, &FitResult, FitOptions)> = all
         .into_iter()
-        .filter(|(m, _, _, dk)| m.delta_bic - best <= o.credible_dbic + dk * ln_n)
+        .filter(|(m, _, _, dk)| m.cause == d.cause || m.delta_bic - best <= o.credible_dbic + dk * ln_n)
         .map(|(m, f, oc, _)| (m, f, oc))
         .collect();
     keep.sort_by(|a, b| a.0.delta_bic.total_cmp(&b.0.delta_bic));

@@ -15,12 +15,14 @@ pub fn design_svg(d: &Design) -> Result<String, PlotError> {
         return Err(PlotError("no proposal to draw".into()));
     };
     let sigma = d.noise.variance.max(0.0).sqrt();
-    let mut top = Panel::new(best.description.clone(), "time after the record's end (s)", "friction μ");
+    // log time: the transients at the start of each segment and the long holds both show
+    let mut top = Panel::new(best.description.clone(), "time after the record's end (s)", "friction μ").log_x();
     let mut bottom = Panel::new(
         format!("difference from {} (dashed: ±{BAND_SIGMAS} sd of noise and parameters)", d.models[0].name),
         "time after the record's end (s)",
         "Δμ",
     )
+    .log_x()
     .zero_line();
     let Some(base) = d.curves.first() else {
         return Err(PlotError("no predictions to draw".into()));
