@@ -29,6 +29,7 @@ rsf simulate PROTOCOL.toml [-o OUT.csv] [--plot OUT.svg]   # run a protocol
 rsf segments RECORD [column options]                       # the loading protocol of a record
 rsf fit RECORD --stiffness K [options]                     # fit a model, with uncertainties
 rsf diagnose RECORD --stiffness K [options]                # what the fitted model gets wrong
+rsf design RECORD --stiffness K [options]                  # the next experiment that settles it
 rsf batch MANIFEST.csv|FOLDER --out DIR --fit|--diagnose   # a whole archive, resumable
 ```
 
@@ -123,6 +124,20 @@ a held-out test, and names the cause (or `none`) with the gain. The record optio
 
 EOF
 help diagnose
+cat <<'EOF'
+
+## `rsf design`
+
+Diagnoses the record as `rsf diagnose` does, then ranks the next segments — velocity steps of
+0.5–3.5 decades, slide–hold–reslides of 10–10⁴ s, and sequences of two — appended at the
+record's end, by how many pairs of credible models each would be expected to settle under the
+record's own noise (the rival free to refit within its uncertainty). It prints the best
+proposals with their machine time and score per hour, and a standard one-decade step down and
+back of the same time for comparison; `--protocol` writes the best as a TOML protocol for
+`rsf simulate`. Method, criterion, limits and the simulation study: [design.md](design.md).
+
+EOF
+help design
 cat <<'EOF'
 
 ## `rsf batch`

@@ -331,3 +331,55 @@ fn diagnose_writes_json_and_a_self_contained_report() {
     let report = std::fs::read_to_string(&html).unwrap();
     assert!(report.starts_with("<!doctype html>") && report.contains("<svg") && !report.contains("src=\"http"));
 }
+
+fn design_basalt() -> Command {
+    let mut c = rsf();
+    c.args([
+        "design",
+        repo().join(BASALT).to_str().unwrap(),
+        "--time-col",
+        "Time(s)",
+        "--lp-col",
+        "Displ(microns)",
+        "--mu-col",
+        "Friction",
+        "--stiffness",
+        "0.0151",
+        "--threads",
+        "2",
+    ]);
+    c
+}
+
+#[test]
+fn design_refuses_bad_constraints_before_any_work() {
+    for (args, words) in [
+        (vec!["--v-range", "300,0.001"], "needs 0 < LOW ≤ HIGH"),
+        (vec!["--v-range", "0.001"], "expected LOW,HIGH"),
+        (vec!["--v-range", "a,b"], "must be numbers"),
+        (vec!["--max-time=-1"], "--max-time -1 must be positive"),
+        (vec!["--max-hold", "nan"], "--max-hold NaN must be zero or positive"),
+    ] {
+        let out = design_basalt().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(words), "{args:?}: {err}");
+        assert!(!err.contains("diagnosing"), "{args:?} refused only after the diagnosis: {err}");
+    }
+}
+
+#[test]
+fn design_says_when_the_record_already_decides() {
+    // the basalt step: a slip trend, decisively; no other model is credible
+    let json = tmp("design_basalt.json");
+    let out = design_basalt().arg("--json").arg(&json).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("one credible model (slip_trend)"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["proposals"].as_array().unwrap().is_empty());
+    // a protocol asked for where there is none is an error, and nothing is written
+    let toml = tmp("design_basalt.toml");
+    let out = design_basalt().arg("--protocol").arg(&toml).output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("no proposal to write"));
+    assert!(!toml.exists());
+}

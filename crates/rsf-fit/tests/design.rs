@@ -73,3 +73,71 @@ fn a_cutoff_below_every_slip_rate_asks_for_a_long_hold() {
     });
     assert!(reaches, "{}", best.description);
 }
+
+/// The prediction of a proposal is the fitted model run through the record's protocol and on:
+/// the same as one direct solve of the whole protocol (Rodas4, tight), and its derivatives are
+/// those of central differences of the prediction itself.
+#[test]
+fn a_prediction_is_the_whole_protocol_solved_at_once_with_exact_derivatives() {
+    use rsf_fit::fit::{fit, parameter_map, predict, prepare};
+    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 5).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut o = FitOptions::new(vec![law_by_name("aging", |_| None).unwrap()], truth.stiffness);
+    o.rtol = 1e-10;
+    let p = prepare(&rec, &segs, &o).unwrap();
+    let f = fit(&p, &o).unwrap();
+    let map = parameter_map(&p, &o).unwrap();
+    let next = [rsf_core::Segment::for_duration(0.0, 300.0), rsf_core::Segment::for_duration(1.0, 40.0)];
+    let times: Vec<f64> = (1..=68).map(|i| 5.0 * i as f64).collect();
+    let got = predict(&p, &map, &o, &f.theta, &next, &times, true).unwrap();
+    // one direct solve of the detected protocol and the appended segments
+    let pr = &f.params;
+    let model = Model::new(pr.mu0, pr.v0, pr.a, pr.k).with_state(StateVariable::new(Aging, pr.b[0], pr.dc[0]));
+    let mut all: Vec<rsf_core::Segment> =
+        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
+    all.extend_from_slice(&next);
+    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
+    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
+    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
+    let direct = solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap();
+    let worst = got.mu.iter().zip(&direct.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-7, "prediction vs direct solve: {worst:e}");
+    // the derivatives against central differences of the prediction
+    let m = got.m;
+    for k in 0..m {
+        let h = 1e-5;
+        let mut tp = f.theta.clone();
+        tp[k] += h;
+        let mut tm = f.theta.clone();
+        tm[k] -= h;
+        let up = predict(&p, &map, &o, &tp, &next, &times, false).unwrap().mu;
+        let dn = predict(&p, &map, &o, &tm, &next, &times, false).unwrap().mu;
+        for r in (0..times.len()).step_by(7) {
+            let fd = (up[r] - dn[r]) / (2.0 * h);
+            let an = got.jac[r * m + k];
+            assert!((fd - an).abs() < 1e-4 * an.abs().max(1e-3), "param {k} row {r}: {an} vs {fd}");
+        }
+    }
+}
+
+/// The same record, options and seed give the same design with one thread or two; another seed
+/// draws other parameters.
+#[test]
+fn the_design_does_not_depend_on_the_thread_count() {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps()[..2], Noise { sigma: 1e-3, tau: 0.0 }, 3).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], truth.stiffness);
+    let d =
+        rsf_fit::diagnose::diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
+    let o = DesignOptions { max_time: 3600.0, max_hold: 3000.0, ..Default::default() };
+    let one = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { threads: 1, ..o.clone() }).unwrap();
+    let two = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { threads: 2, ..o.clone() }).unwrap();
+    let json = |g: &Design| serde_json::to_string(&g.proposals).unwrap();
+    assert!(one.proposals.len() > 10);
+    assert_eq!(json(&one), json(&two));
+    let other = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { seed: 2, ..o }).unwrap();
+    assert_ne!(json(&one), json(&other));
+}

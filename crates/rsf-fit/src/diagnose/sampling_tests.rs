@@ -126,3 +126,32 @@ fn synthesis_in_time_reproduces_the_model() {
     assert!((refit.ar1_tau_s / m.ar1_tau_s - 1.0).abs() < 0.3, "{} {}", refit.ar1_tau_s, m.ar1_tau_s);
     assert!((refit.n_effective / m.n_effective - 1.0).abs() < 0.5, "{} {}", refit.n_effective, m.n_effective);
 }
+
+/// The whitening of `rsf design` is Σ^(-1/2): whitened dot products equal xᵀΣ⁻¹y for the dense
+/// covariance of white (scaled per sample) plus OU noise, solved directly.
+#[test]
+fn whitening_gives_the_dense_covariances_quadratic_forms() {
+    let times: Vec<f64> = (0..120).map(|i| 0.1 * i as f64 + 0.02 * ((i * 7 % 5) as f64)).collect();
+    let n = times.len();
+    let (white, ar, tau) = (4e-8, 9e-8, 1.5);
+    let m = NoiseModel { ar1_variance: ar, ar1_tau_s: tau, ar1_phi: 0.9, ..NoiseModel::white(white, n, 0.1) };
+    let scale: Vec<f64> = (0..n).map(|i| 1.0 / (1.0 + (i % 4) as f64)).collect();
+    let sigma = nalgebra::DMatrix::from_fn(n, n, |i, j| {
+        ar * (-(times[i] - times[j]).abs() / tau).exp() + if i == j { white * scale[i] } else { 0.0 }
+    });
+    let x: Vec<f64> = normals(n, 11).iter().map(|z| 1e-4 * z).collect();
+    let y: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * times[i]).sin() + 2e-4).collect();
+    let chol = sigma.cholesky().unwrap();
+    let dense = |a: &[f64], b: &[f64]| {
+        let sb = chol.solve(&nalgebra::DVector::from_column_slice(b));
+        nalgebra::DVector::from_column_slice(a).dot(&sb)
+    };
+    let mut w = vec![x.clone(), y.clone()];
+    whiten(&m, &times, &scale, &mut w);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+    for (got, want) in
+        [(dot(&w[0], &w[0]), dense(&x, &x)), (dot(&w[0], &w[1]), dense(&x, &y)), (dot(&w[1], &w[1]), dense(&y, &y))]
+    {
+        assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want}");
+    }
+}

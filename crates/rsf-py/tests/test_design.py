@@ -1,0 +1,51 @@
+"""rsf.design equals `rsf design`, and its ranking comes out as a DataFrame."""
+
+import json
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+import rsf
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+CLI = os.path.join(ROOT, "target", "release", "rsf")
+
+
+def small_steps_record(path):
+    """An Aging-law record of one 0.5-decade step with white noise 1e-3: the laws are not told
+    apart yet (the record is made by rsf itself: this test compares two front ends, not physics)."""
+    m = rsf.Model(mu0=0.6, v0=1.0, a=0.010, stiffness=0.01, states=[rsf.State("aging", b=0.013, dc=10.0)])
+    p = rsf.Protocol(v_init=1.0, segments=[(1.0, {"duration": 60.0}), (10 ** 0.5, {"duration": 20.0})])
+    s = rsf.simulate(m, p, dt=0.1, method="implicit", rtol=1e-11, atol=1e-14)
+    mu = np.asarray(s.mu) + 1e-3 * np.random.default_rng(3).standard_normal(len(s.mu))
+    with open(path, "w") as f:
+        f.write("time_s,load_point_um,mu\n")
+        for row in zip(s.time_s, s.load_point_um, mu):
+            f.write("%.17g,%.17g,%.17g\n" % row)
+
+
+def test_design_equals_the_cli_and_gives_a_dataframe():
+    if not os.path.exists(CLI):
+        pytest.skip("target/release/rsf not built (cargo build --release -p rsf-cli)")
+    with tempfile.TemporaryDirectory() as d:
+        rec = os.path.join(d, "r.csv")
+        small_steps_record(rec)
+        j = os.path.join(d, "g.json")
+        subprocess.run([CLI, "design", rec, "--stiffness", "0.01", "--max-time", "3600", "--max-hold", "3000",
+                        "--json", j], check=True, capture_output=True, text=True)
+        ref = json.load(open(j))
+        py = rsf.design(rsf.read_record(rec), stiffness=0.01, max_time=3600, max_hold=3000, threads=1)
+        assert len(py["models"]) >= 2 and py["proposals"]
+        assert [r["description"] for r in py["proposals"][:5]] == [r["description"] for r in ref["proposals"][:5]]
+        assert py["proposals"][0]["score"] == pytest.approx(ref["proposals"][0]["score"], rel=1e-9)
+        assert py.protocol.startswith("# rsf design: proposal 1")
+        out = os.path.join(d, "next.toml")
+        py.write_protocol(out)
+        assert rsf.simulate(out).time_s[-1] == pytest.approx(py["proposals"][0]["machine_time_s"], rel=1e-2)
+    pd = pytest.importorskip("pandas")
+    df = py.to_pandas()
+    assert isinstance(df, pd.DataFrame) and list(df["rank"][:3]) == [1, 2, 3]
+    assert any(c.startswith("dchi2:") for c in df.columns)
