@@ -12,6 +12,7 @@
 //! | [`lm`] | the Levenberg–Marquardt minimiser |
 //! | [`mcmc`] | posterior sampling by adaptive Metropolis, chains in parallel |
 //! | [`diagnose`] | what a fitted model gets wrong, the extension that fixes it and the gain |
+//! | [`design`] | the next velocity step or hold that best tells the credible causes apart |
 //! | [`report`] | the diagnosis as an HTML page, and the SVG charts of fits and diagnoses |
 //! | [`synthetic`] | records made by the model with known parameters and noise, for tests |
 //!

@@ -255,7 +255,12 @@ fn prepare_model(
     Ok(Credible { info, opts, p, map, theta: fit.theta.clone(), sqrt_cov, draws })
 }
 
-/// The record's median sampling intervals while sliding and in holds, s.
+/// The sampling interval in holds of a record that has none, s: labs slow their sampling in
+/// holds, to 1 Hz or less.
+const DEFAULT_HOLD_INTERVAL: f64 = 1.0;
+
+/// The record's median sampling intervals while sliding and in holds, s (in holds
+/// [`DEFAULT_HOLD_INTERVAL`] when it has none, or its sliding interval if that is longer).
 fn intervals(rec: &Record, segs: &[Segment]) -> (f64, f64) {
     let median = |moving: bool| {
         let mut d: Vec<f64> = segs
@@ -268,7 +273,7 @@ fn intervals(rec: &Record, segs: &[Segment]) -> (f64, f64) {
         d.get(d.len() / 2).copied()
     };
     let slide = median(true).unwrap_or(1.0);
-    (slide, median(false).unwrap_or(slide))
+    (slide, median(false).unwrap_or(slide.max(DEFAULT_HOLD_INTERVAL)))
 }
 
 struct Scorer<'a> {

@@ -22,6 +22,11 @@ pub const SEQUENCE_SEEDS: usize = 6;
 /// for the samples around it.
 pub const POINTS_PER_SEGMENT: usize = 150;
 
+/// Shortest protocol segment a proposal holds, s: a lab's servo settles and its sampling
+/// resolves a new velocity within seconds, not within a fraction of one (a 0.8 s step of 7
+/// samples predicts far more than a real machine shows).
+pub const MIN_SEGMENT_S: f64 = 10.0;
+
 /// One building block of a proposal.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -133,7 +138,11 @@ impl Proposal {
             Primitive::Hold { hold_s, .. } => hold_s <= o.max_hold * (1.0 + 1e-9),
             Primitive::Step { .. } => true,
         });
-        holds_ok && self.machine_time() <= o.max_time * (1.0 + 1e-9) && self.slip() <= o.max_slip * (1.0 + 1e-9)
+        let long_enough = self.segments().iter().all(|s| s.1 >= MIN_SEGMENT_S * (1.0 - 1e-9));
+        holds_ok
+            && long_enough
+            && self.machine_time() <= o.max_time * (1.0 + 1e-9)
+            && self.slip() <= o.max_slip * (1.0 + 1e-9)
     }
 }
 
@@ -155,7 +164,7 @@ pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions) -> Vec<Proposal> {
                 continue;
             }
             for &m in &STEP_SLIP_DC {
-                let slip = (m * dc_ref).min(o.max_slip).min(v * o.max_time);
+                let slip = (m * dc_ref).max(v * MIN_SEGMENT_S).min(o.max_slip).min(v * o.max_time);
                 push(Proposal { parts: vec![Primitive::Step { v, slip }] });
             }
         }
@@ -163,7 +172,8 @@ pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions) -> Vec<Proposal> {
     if in_range(v_end) {
         for &h in HOLD_TIMES.iter().filter(|&&h| h <= o.max_hold) {
             for &m in &RESLIDE_DC {
-                let slip = (m * dc_ref).min(o.max_slip).min(v_end * (o.max_time - h).max(0.0));
+                let slip =
+                    (m * dc_ref).max(v_end * MIN_SEGMENT_S).min(o.max_slip).min(v_end * (o.max_time - h).max(0.0));
                 if slip > 0.0 {
                     push(Proposal { parts: vec![Primitive::Hold { hold_s: h, v: v_end, slip }] });
                 }
@@ -259,6 +269,11 @@ mod tests {
                 assert!(v == 0.0 || (0.01 * (1.0 - 1e-9)..=100.0 * (1.0 + 1e-9)).contains(&v), "{p:?}");
             }
         }
+        // no segment shorter than MIN_SEGMENT_S
+        assert!(s.iter().all(|p| p.segments().iter().all(|x| x.1 >= MIN_SEGMENT_S * (1.0 - 1e-9))));
+        // 2 decades up would need 1000 µm in 10 s: more than max_slip allows, so not proposed
+        let o2 = DesignOptions { max_slip: 500.0, ..o.clone() };
+        assert!(!singles(1.0, 10.0, &o2).iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if v > 50.0)));
         // a 3000 s hold is over max_hold; 2 decades down is inside the range, 2.5 is not
         assert!(!s.iter().any(|p| matches!(p.parts[0], Primitive::Hold { hold_s, .. } if hold_s > 1000.0)));
         assert!(s.iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if (v - 0.01).abs() < 1e-12)));
