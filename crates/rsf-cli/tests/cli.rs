@@ -383,3 +383,44 @@ fn design_says_when_the_record_already_decides() {
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("no proposal to write"));
     assert!(!toml.exists());
 }
+
+/// The bundled hidden cut-off (examples/data/design): a long hold is proposed, and the protocol,
+/// figure and page are written; the protocol runs in `rsf simulate`.
+#[test]
+fn design_proposes_a_long_hold_for_a_hidden_cutoff_and_writes_its_outputs() {
+    let (json, toml, svg, html, csv) =
+        (tmp("hc.json"), tmp("hc.toml"), tmp("hc.svg"), tmp("hc.html"), tmp("hc_next.csv"));
+    let out = rsf()
+        .args(["design", repo().join("examples/data/design/hidden_cutoff.csv").to_str().unwrap()])
+        .args(["--stiffness", "0.0026919553456917138", "--threads", "2", "--json"])
+        .arg(&json)
+        .arg("--protocol")
+        .arg(&toml)
+        .arg("--plot")
+        .arg(&svg)
+        .arg("--report")
+        .arg(&html)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["cause"], "none");
+    assert!(v["models"].as_array().unwrap().iter().any(|m| m["name"] == "cutoff_velocity"));
+    let best = &v["proposals"][0];
+    let holds: Vec<f64> = best["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s[0].as_f64() == Some(0.0))
+        .map(|s| s[1].as_f64().unwrap())
+        .collect();
+    assert!(holds.iter().any(|&h| h >= 3000.0), "{}", best["description"]);
+    assert!(best["score"].as_f64().unwrap() > v["standard"]["score"].as_f64().unwrap());
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.starts_with("<!doctype html>") && page.contains("<svg") && !page.contains("src=\"http"));
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    let sim = rsf().arg("simulate").arg(&toml).arg("-o").arg(&csv).output().unwrap();
+    assert!(sim.status.success(), "{}", String::from_utf8_lossy(&sim.stderr));
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    assert!(rows > 1000, "{rows}");
+}

@@ -51,7 +51,7 @@ fn aging_against_slip_on_small_steps_asks_for_a_large_step_down_or_a_hold() {
     let best = &g.proposals[0];
     // the best proposal leaves the record's range: a step down of ≥ 1.5 decades or a hold
     let leaves = best.proposal.parts.iter().any(|p| match *p {
-        Primitive::Step { v, .. } => v <= 1.0 / 10f64.powf(1.5) * 1.0001,
+        Primitive::Step { v, .. } => v <= g.v_end / 10f64.powf(1.5) * 1.0001,
         Primitive::Hold { hold_s, .. } => hold_s >= 30.0,
     });
     assert!(leaves, "{}", best.description);
