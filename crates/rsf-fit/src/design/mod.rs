@@ -11,7 +11,7 @@
 //! 2. The proposals ([`space`]): velocity steps up and down of 0.5–3.5 decades with their slip,
 //!    slide–hold–reslide with holds on a log grid and the reslide distance, and sequences of
 //!    two of the best of these, within the lab's constraints.
-//! 3. The criterion ([`criterion`]): for each ordered pair of models (truth i, rival j), the
+//! 3. The criterion (`criterion.rs`): for each ordered pair of models (truth i, rival j), the
 //!    expected lack of fit of j when i is true, over the new samples under the record's noise
 //!    model, after j re-adjusts its parameters within what the record allows:
 //!    Δ_ij = E_θi[ rᵀ (Σ + J_j C_j J_jᵀ)⁻¹ r ], r = f_i(θ_i) − f_j(θ̂_j), θ_i drawn from i's
