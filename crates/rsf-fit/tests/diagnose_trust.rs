@@ -92,6 +92,25 @@ fn a_cutoff_only_the_last_hold_reaches_survives_the_held_out_test() {
     assert!((vc / 3e-6).ln().abs() < 2f64.ln(), "Vc {vc}");
 }
 
+/// A hidden cut-off made visible by a 10⁴ s hold (tests/data/design/cutoff_after_long_hold.csv,
+/// the design study's first cut-off case with its designed segment): the baseline's parameters
+/// with any cut-off heal so much in the hold that the reslide runs away at every Vc of the
+/// profile. The cut-off candidate must still be fitted (from steadier starts, then from the
+/// best cut-off fit), not vanish — the diagnosis then named `none`.
+#[test]
+fn a_cutoff_whose_profile_start_runs_away_after_a_long_hold_is_still_fitted() {
+    use rsf_fit::data::{ReadOptions, read_record};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/design/cutoff_after_long_hold.csv");
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let d = diagnose(&rec, &segs, &options(0.0026919553456917138, LoadingMode::Protocol)).unwrap();
+    assert!(d.candidates.iter().any(|c| c.cause == Cause::CutoffVelocity), "no cut-off candidate: {}", d.reason);
+    assert_eq!(d.cause, Cause::CutoffVelocity, "{}", d.reason);
+    let vc = d.effect.vc.unwrap();
+    assert!((vc / 1.2115e-3).ln().abs() < 2f64.ln(), "Vc {vc}");
+}
+
 /// A plain Slip-law record whose reconstructed protocol ends the last hold 0.3 s late (the
 /// reslide then starts late in the model): under protocol loading the reslide misfits far
 /// above every other segment. The diagnosis reports the protocol problem at that break,
