@@ -163,6 +163,20 @@ pub(crate) enum Command {
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct DiagnoseArgs {
+    #[command(flatten)]
+    pub(crate) d: DiagnosisArgs,
+    /// Write the diagnosis as JSON here.
+    #[arg(long)]
+    pub(crate) json: Option<PathBuf>,
+    /// Write a self-contained HTML report here.
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+}
+
+// The diagnosis's own options, shared by `rsf diagnose` and `rsf design` (a plain comment: a
+// doc comment would become the about text of both)
+#[derive(clap::Args, Debug)]
+pub(crate) struct DiagnosisArgs {
     /// The record.
     pub(crate) data: PathBuf,
     #[command(flatten)]
@@ -182,9 +196,9 @@ pub(crate) struct DiagnoseArgs {
     /// Print each stage's and job's wall time on stderr (profiling; the result is the same).
     #[arg(long)]
     pub(crate) stage_times: bool,
-    /// Seed of the null calibration's noise replicates. The diagnosis is a deterministic function
-    /// of the record, the options and this seed: the same on any machine, at any load, with any
-    /// number of threads.
+    /// Seed of every random draw (the null calibration's noise replicates; `rsf design`'s
+    /// parameter draws). The result is a deterministic function of the record, the options and
+    /// this seed: the same on any machine, at any load, with any number of threads.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
     /// Noise replicates of the null calibration (parametric bootstrap under the baseline); 0
@@ -203,29 +217,12 @@ pub(crate) struct DiagnoseArgs {
     /// count of integrator steps instead.
     #[arg(long)]
     pub(crate) wall_clock_guard: Option<f64>,
-    /// Write the diagnosis as JSON here.
-    #[arg(long)]
-    pub(crate) json: Option<PathBuf>,
-    /// Write a self-contained HTML report here.
-    #[arg(long)]
-    pub(crate) report: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct DesignArgs {
-    /// The record.
-    pub(crate) data: PathBuf,
     #[command(flatten)]
-    pub(crate) read: DataArgs,
-    /// Nominal machine stiffness k, 1/µm.
-    #[arg(long)]
-    pub(crate) stiffness: f64,
-    /// Baseline evolution law of the diagnosis: slip or aging.
-    #[arg(long, default_value = "slip", value_parser = word::<Baseline>)]
-    pub(crate) baseline: Baseline,
-    /// Forward-model loading of the diagnosis: record or protocol.
-    #[arg(long, default_value = "protocol", value_parser = word::<LoadingMode>)]
-    pub(crate) loading: LoadingMode,
+    pub(crate) d: DiagnosisArgs,
     /// Load-point velocities the machine can drive, µm/s: LOW,HIGH.
     #[arg(long, default_value = "0.001,300")]
     pub(crate) v_range: String,
@@ -251,13 +248,6 @@ pub(crate) struct DesignArgs {
     /// Proposals to print.
     #[arg(long, default_value_t = 5)]
     pub(crate) top: usize,
-    /// Seed of the draws and of the diagnosis's null calibration: the design is a deterministic
-    /// function of the record, the options and this seed.
-    #[arg(long, default_value_t = 1)]
-    pub(crate) seed: u64,
-    /// Threads (0: all cores; the result does not depend on it).
-    #[arg(long, default_value_t = 0)]
-    pub(crate) threads: usize,
     /// Write the ranking, the models and the best proposal's predictions as JSON here.
     #[arg(long)]
     pub(crate) json: Option<PathBuf>,

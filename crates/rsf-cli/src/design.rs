@@ -5,7 +5,6 @@ use crate::args::DesignArgs;
 use anyhow::{Result, bail};
 use rsf_fit::design::{DesignOptions, protocol_toml};
 use rsf_fit::diagnose::DiagnoseOptions;
-use rsf_fit::fit::FitOptions;
 use rsf_fit::segment::{SegmentOptions, detect};
 use std::time::Instant;
 
@@ -25,17 +24,16 @@ fn v_range(s: &str) -> Result<(f64, f64)> {
 
 pub fn run(a: &DesignArgs) -> Result<()> {
     let start = Instant::now();
+    let r = &a.d;
     crate::output::Files::default()
-        .input("record", &a.data)
+        .input("record", &r.data)
         .output("--json", a.json.as_deref())
         .output("--protocol", a.protocol.as_deref())
         .output("--plot", a.plot.as_deref())
         .output("--report", a.report.as_deref())
         .output("--diagnosis-json", a.diagnosis_json.as_deref())
         .check()?;
-    if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
-        bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
-    }
+    let dopts = crate::fit::diagnose_options(r)?;
     for (name, x) in [("--max-time", a.max_time), ("--max-slip", a.max_slip)] {
         if !(x > 0.0 && x.is_finite()) {
             bail!("{name} {x} must be positive and finite");
@@ -55,19 +53,15 @@ pub fn run(a: &DesignArgs) -> Result<()> {
         max_slip: a.max_slip,
         draws: a.draws,
         sequences: !a.no_sequences,
-        seed: a.seed,
-        threads: a.threads,
+        seed: r.seed,
+        threads: r.threads,
         progress: None,
     };
-    let mut fo = FitOptions::new(vec![a.baseline.law().with_starting_values()], a.stiffness);
-    fo.loading = a.loading;
-    fo.normal_stress = a.read.normal_stress_mode;
-    let rec = a.read.read(&a.data)?;
+    let rec = r.read.read(&r.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     eprintln!("rsf design: {} samples, {} segments; diagnosing first…", rec.len(), segs.len());
     let (bar, progress) = crate::fit::progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
-    let dopts =
-        DiagnoseOptions { seed: a.seed, threads: a.threads, progress: Some(progress), ..DiagnoseOptions::new(fo) };
+    let dopts = DiagnoseOptions { progress: Some(progress), ..dopts };
     let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts)?;
     bar.finish_and_clear();
     let t_diag = start.elapsed().as_secs_f64();
@@ -109,12 +103,12 @@ pub fn run(a: &DesignArgs) -> Result<()> {
     eprintln!("rsf design: {wall:.1} s ({t_diag:.1} s diagnosis, {:.1} s design)", wall - t_diag);
     if let Some(j) = &a.json {
         let mut v = serde_json::to_value(&design)?;
-        v["data"] = serde_json::json!(a.data.display().to_string());
+        v["data"] = serde_json::json!(r.data.display().to_string());
         crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }
     if let Some(j) = &a.diagnosis_json {
         let mut v = serde_json::to_value(&d)?;
-        v["data"] = serde_json::json!(a.data.display().to_string());
+        v["data"] = serde_json::json!(r.data.display().to_string());
         crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }
     if let Some(p) = &a.protocol {
@@ -129,9 +123,9 @@ pub fn run(a: &DesignArgs) -> Result<()> {
             Err(e) => bail!("--plot: {e}"),
         }
     }
-    if let Some(r) = &a.report {
-        let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        crate::output::write_bytes(r, rsf_fit::report::design_html(&design, &name))?;
+    if let Some(page) = &a.report {
+        let name = r.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        crate::output::write_bytes(page, rsf_fit::report::design_html(&design, &name))?;
     }
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! `rsf fit`.
 
-use crate::args::{DiagnoseArgs, FitArgs};
+use crate::args::{DiagnoseArgs, DiagnosisArgs, FitArgs};
 use anyhow::{Context, Result, bail};
 use rsf_fit::diagnose::{EventFit, event_windows, per_event_fits};
 use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
@@ -277,14 +277,9 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
     s
 }
 
-/// `rsf diagnose`.
-pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
-    let start = Instant::now();
-    crate::output::Files::default()
-        .input("record", &a.data)
-        .output("--json", a.json.as_deref())
-        .output("--report", a.report.as_deref())
-        .check()?;
+/// The diagnosis's options from the command line, checked before any work (the outputs'
+/// paths are checked by the caller first): `rsf diagnose` and `rsf design` alike.
+pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::DiagnoseOptions> {
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }
@@ -300,6 +295,27 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     if !(a.false_alarm_level > 0.0 && a.false_alarm_level < 1.0) {
         bail!("--false-alarm-level {} must lie between 0 and 1", a.false_alarm_level);
     }
+    Ok(rsf_fit::diagnose::DiagnoseOptions {
+        heldout: !a.no_heldout,
+        stage_times: a.stage_times,
+        seed: a.seed,
+        threads: a.threads,
+        null_replicates: a.null_replicates,
+        false_alarm_level: a.false_alarm_level,
+        ..rsf_fit::diagnose::DiagnoseOptions::new(fo)
+    })
+}
+
+/// `rsf diagnose`.
+pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
+    let start = Instant::now();
+    let a = &args.d;
+    crate::output::Files::default()
+        .input("record", &a.data)
+        .output("--json", args.json.as_deref())
+        .output("--report", args.report.as_deref())
+        .check()?;
+    let opts = diagnose_options(a)?;
     let rec = a.read.read(&a.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     eprintln!(
@@ -311,16 +327,7 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     let d = rsf_fit::diagnose::diagnose(
         &rec,
         &segs,
-        &rsf_fit::diagnose::DiagnoseOptions {
-            heldout: !a.no_heldout,
-            stage_times: a.stage_times,
-            progress: Some(progress),
-            seed: a.seed,
-            threads: a.threads,
-            null_replicates: a.null_replicates,
-            false_alarm_level: a.false_alarm_level,
-            ..rsf_fit::diagnose::DiagnoseOptions::new(fo)
-        },
+        &rsf_fit::diagnose::DiagnoseOptions { progress: Some(progress), ..opts },
     )?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
@@ -388,12 +395,12 @@ pub fn diagnose(a: &DiagnoseArgs) -> Result<()> {
     }
     crate::write_stdout(&out)?;
     eprintln!("rsf diagnose: {wall:.1} s");
-    if let Some(j) = &a.json {
+    if let Some(j) = &args.json {
         let mut v = serde_json::to_value(&d)?;
         v["data"] = serde_json::json!(a.data.display().to_string());
         crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }
-    if let Some(r) = &a.report {
+    if let Some(r) = &args.report {
         let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
         crate::output::write_bytes(r, rsf_fit::report::diagnosis_html(&d, &name))?;
     }
