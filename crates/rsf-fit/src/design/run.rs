@@ -61,7 +61,7 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
         .clone()
         .ok_or_else(|| FitError::Setup("the diagnosis carries no baseline options to design from".into()))?;
     let mut notes = vec![];
-    let models = credible(rec, segs, d, &base_opts, o, &mut notes)?;
+    let models = credible(d, &base_opts, o, &mut notes);
     let last = segs.last().ok_or_else(|| FitError::Setup("the record has no segments".into()))?;
     let v_end = if last.v > 0.0 { last.v } else { segs.iter().rev().find(|s| s.v > 0.0).map_or(1.0, |s| s.v) };
     let (dt_slide, dt_hold) = intervals(rec, segs);
@@ -98,7 +98,7 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
     // the slip scale of the proposals: the baseline's Dc (an added state's Dc may be
     // unconstrained; the grid's 30 Dc reaches the slow states a record can show)
     let dc_ref = d.baseline.params.dc.first().copied().unwrap_or(10.0).max(1e-3);
-    let ctx = Scorer { models: &models, noise: &noise, dt_slide, dt_hold, threads: o.threads };
+    let ctx = Scorer { models: &models, noise: &noise, dt_slide, dt_hold };
     let first = singles(v_end, dc_ref, o);
     let seq_guess = if o.sequences { SEQUENCE_SEEDS * (SEQUENCE_SEEDS - 1) } else { 0 };
     let total = first.len() + seq_guess;
@@ -159,14 +159,11 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
 /// candidate with a fit, no parameter at a bound, an effect the record resolves, and a ΔBIC
 /// within the window of the best, its Occam penalty not counted.
 fn credible<'a>(
-    rec: &Record,
-    segs: &[Segment],
     d: &'a Diagnosis,
     base_opts: &FitOptions,
     o: &DesignOptions,
     notes: &mut Vec<String>,
-) -> Result<Vec<(DesignModel, &'a FitResult, FitOptions)>, FitError> {
-    let _ = (rec, segs);
+) -> Vec<(DesignModel, &'a FitResult, FitOptions)> {
     let base_law = base_opts.laws[0].name();
     let entry = |name: String, cause: Cause, extension: String, delta_bic: f64, f: &FitResult| DesignModel {
         name,
@@ -208,7 +205,7 @@ fn credible<'a>(
         .map(|(m, f, oc, _)| (m, f, oc))
         .collect();
     keep.sort_by(|a, b| a.0.delta_bic.total_cmp(&b.0.delta_bic));
-    Ok(keep)
+    keep
 }
 
 /// A model with its parameter map, inflated covariance square root and draws.
@@ -281,7 +278,6 @@ struct Scorer<'a> {
     noise: &'a NoiseModel,
     dt_slide: f64,
     dt_hold: f64,
-    threads: usize,
 }
 
 impl Scorer<'_> {
@@ -297,7 +293,6 @@ impl Scorer<'_> {
 
     /// The proposal scored, with the models' curves.
     fn score(&self, prop: &Proposal, v_end: f64) -> Option<(Ranked, Vec<PredictedCurve>)> {
-        let _ = self.threads;
         let next: Vec<rsf_core::Segment> =
             prop.segments().iter().map(|&(v, d)| rsf_core::Segment::for_duration(v, d)).collect();
         let s = sampling(prop, self.dt_slide, self.dt_hold);
