@@ -297,28 +297,18 @@ fn a_segments_file_overrides_detection() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("segment 1: needs t1 > t0"));
 }
 
+/// `rsf COMMAND` on the bundled basalt step with its columns and nominal stiffness.
+fn on_basalt(command: &str) -> Command {
+    let mut c = rsf();
+    c.args([command, repo().join(BASALT).to_str().unwrap()]);
+    c.args(["--time-col", "Time(s)", "--lp-col", "Displ(microns)", "--mu-col", "Friction", "--stiffness", "0.0151"]);
+    c
+}
+
 #[test]
 fn diagnose_writes_json_and_a_self_contained_report() {
     let (json, html) = (tmp("diag.json"), tmp("diag.html"));
-    let out = rsf()
-        .args([
-            "diagnose",
-            repo().join(BASALT).to_str().unwrap(),
-            "--time-col",
-            "Time(s)",
-            "--lp-col",
-            "Displ(microns)",
-            "--mu-col",
-            "Friction",
-            "--stiffness",
-            "0.0151",
-            "--json",
-        ])
-        .arg(&json)
-        .arg("--report")
-        .arg(&html)
-        .output()
-        .unwrap();
+    let out = on_basalt("diagnose").arg("--json").arg(&json).arg("--report").arg(&html).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let causes = ["none", "evolution_law", "second_state_variable", "cutoff_velocity", "slip_trend", "stiffness"];
@@ -333,21 +323,8 @@ fn diagnose_writes_json_and_a_self_contained_report() {
 }
 
 fn design_basalt() -> Command {
-    let mut c = rsf();
-    c.args([
-        "design",
-        repo().join(BASALT).to_str().unwrap(),
-        "--time-col",
-        "Time(s)",
-        "--lp-col",
-        "Displ(microns)",
-        "--mu-col",
-        "Friction",
-        "--stiffness",
-        "0.0151",
-        "--threads",
-        "2",
-    ]);
+    let mut c = on_basalt("design");
+    c.args(["--threads", "2"]);
     c
 }
 

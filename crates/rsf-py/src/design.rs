@@ -1,14 +1,11 @@
 //! `rsf.design`: the next experiment, as `rsf design` does.
 
-use crate::fitting::{fit_options, interruptible, record, word};
+use crate::fitting::{diagnose_options, interruptible, record};
 use crate::value_error;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use rsf_fit::design::{DesignOptions, design as run_design, protocol_toml};
-use rsf_fit::diagnose::DiagnoseOptions;
 use rsf_fit::segment::{SegmentOptions, detect};
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 /// Designs the next segment of a record (arrays) as `rsf design` does; returns the design's
 /// JSON, the HTML page and the best proposal's TOML protocol (empty when there is none).
@@ -36,12 +33,8 @@ pub fn design_json(
     threads: usize,
     name: &str,
 ) -> PyResult<(String, String, String)> {
-    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
     let rec = record(time, load_point, mu, None)?;
-    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
-    let cancel = Arc::new(AtomicBool::new(false));
-    fo.cancel = Some(cancel.clone());
-    let dopts = DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) };
+    let (dopts, cancel) = diagnose_options(baseline, stiffness, loading, "auto", seed, threads)?;
     let o = DesignOptions {
         credible_dbic: credible,
         v_range,

@@ -237,6 +237,24 @@ pub fn fit_json(
 /// The fit JSON, the MCMC draws with their column names, and the fitted curve's columns.
 type FitOut = (String, Vec<Vec<f64>>, Vec<String>, Vec<(String, Vec<f64>)>);
 
+/// A diagnosis's options from the Python arguments (`rsf.diagnose` and `rsf.design`), with the
+/// flag Ctrl-C sets to cancel it.
+pub(crate) fn diagnose_options(
+    baseline: &str,
+    stiffness: f64,
+    loading: &str,
+    normal_stress_mode: &str,
+    seed: u64,
+    threads: usize,
+) -> PyResult<(DiagnoseOptions, Arc<AtomicBool>)> {
+    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
+    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
+    fo.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    fo.cancel = Some(cancel.clone());
+    Ok((DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) }, cancel))
+}
+
 /// Diagnoses a record (arrays) as `rsf diagnose` does; returns the CLI's diagnosis JSON and
 /// the self-contained HTML report (`rsf diagnose --report`), which is also written to
 /// `report` when given.
@@ -260,13 +278,8 @@ pub fn diagnose_json(
     name: &str,
     progress: bool,
 ) -> PyResult<(String, String)> {
-    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
     let rec = record(time, load_point, mu, normal_stress)?;
-    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
-    fo.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
-    let cancel = Arc::new(AtomicBool::new(false));
-    fo.cancel = Some(cancel.clone());
-    let mut dopts = DiagnoseOptions { seed, threads, ..DiagnoseOptions::new(fo) };
+    let (mut dopts, cancel) = diagnose_options(baseline, stiffness, loading, normal_stress_mode, seed, threads)?;
     if progress {
         dopts.progress = Some(Arc::new(|done, all, what: &str| eprintln!("rsf.diagnose: {done}/{all} {what}")));
     }
