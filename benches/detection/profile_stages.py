@@ -1,7 +1,7 @@
 """Where a diagnosis's time goes, stage by stage (issue 22): runs `rsf diagnose` with
 `rsf diagnose --stage-times` on the records of a generated set whose row count lies in a range, and
-prints a Markdown table of the stages (wall seconds; candidate fits and per-event refits as
-CPU seconds of their own jobs).
+prints a Markdown table of the stages (wall seconds; candidate fits with their held-out tests,
+and per-event refits, as CPU seconds of their own jobs).
 
     python3 benches/detection/generate.py --out DIR --drift --seed 22 --rows-scale 5 --limit 30
     python3 benches/detection/profile_stages.py DIR [--rows 55000 80000] [--rsf target/release/rsf]
@@ -19,7 +19,7 @@ from pathlib import Path
 def stages(text):
     at = {m.group(1): float(m.group(2)) for m in re.finditer(r"diagnose: (.*?) done at ([0-9.]+) s", text)}
     jobs = {}
-    for m in re.finditer(r"diagnose: (\S+(?: \d+)?) in ([0-9.]+) s", text):
+    for m in re.finditer(r"diagnose: (\S+(?: \d+| held out)?) in ([0-9.]+) s", text):
         jobs[m.group(1)] = jobs.get(m.group(1), 0.0) + float(m.group(2))
     null = sum(float(m.group(1)) for m in re.finditer(r"null calibration of \S+ in ([0-9.]+) s", text))
     base, mask = at["baseline and reconstruction check"], at["break-timing mask"]
@@ -28,7 +28,8 @@ def stages(text):
         "total": comb, "baseline": base, "mask": mask - base, "held-out baseline": held - mask,
         "candidates+events (wall)": cands - held - null, "null": null, "combinations": comb - cands,
         "events (cpu)": sum(v for k, v in jobs.items() if k.startswith("segment")),
-        **{f"{c} (cpu)": jobs.get(c, 0.0) for c in
+        # a candidate's fit and its held-out test (a job of its own beside the fit)
+        **{f"{c} (cpu)": jobs.get(c, 0.0) + jobs.get(f"{c} held out", 0.0) for c in
            ["second_state_variable", "cutoff_velocity", "evolution_law", "stiffness", "slip_trend"]},
     }
 

@@ -27,6 +27,10 @@ pub enum StopReason {
     /// `max_iter` iterations.
     #[serde(rename = "iteration limit")]
     IterationLimit,
+    /// The Gauss–Newton step's predicted gain fell below the tolerance in log-likelihood units
+    /// ([`Convergence::lnl_tolerance`]).
+    #[serde(rename = "predicted gain below tolerance")]
+    Converged,
 }
 
 impl StopReason {
@@ -38,6 +42,7 @@ impl StopReason {
             Self::SmallStep => "step below 1e-12",
             Self::DampingDiverged => "damping diverged (at a minimum or a wall)",
             Self::IterationLimit => "iteration limit",
+            Self::Converged => "predicted gain below tolerance",
         }
     }
 }
@@ -93,6 +98,85 @@ fn normal_equations(e: &Eval, m: usize) -> (DMatrix<f64>, DVector<f64>, f64) {
     (a, g, ssr)
 }
 
+/// How accurately the objective is to be computed: a search far from its optimum needs a
+/// descent direction, not the last digits (see [`Convergence::coarse_above`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Accuracy {
+    /// The caller's loose setting (e.g. a looser integrator tolerance).
+    Coarse,
+    /// The caller's full setting: every reported sum of squares is computed so.
+    Fine,
+}
+
+/// When Levenberg–Marquardt stops, and whether it may evaluate coarsely far from the optimum.
+///
+/// Both tests are in units of the Gaussian log-likelihood of the samples,
+/// ln L = −(N/2) ln(SSR + SSR₀) + const ([`LnlScale`]): a change ΔSSR moves it by about
+/// (N/2) ΔSSR/(SSR + SSR₀). The Gauss–Newton step's predicted reduction gᵀA⁻¹g (the
+/// *decrement*, g = Jᵀr, A = JᵀJ) bounds what is left to gain while the quadratic model holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Convergence {
+    /// Iteration limit.
+    pub max_iter: usize,
+    /// Stop (evaluating finely) when the decrement is below this in ln L units; `None`: only
+    /// the relative-reduction, step and damping tests.
+    pub lnl_tolerance: Option<f64>,
+    /// Evaluate with [`Accuracy::Coarse`] while the decrement exceeds this in ln L units, then
+    /// finely to the end (never back); `None`: always finely. A coarse search that would stop
+    /// switches to fine evaluations instead, so every result is a fine one.
+    pub coarse_above: Option<f64>,
+    /// What a unit of ln L is.
+    pub scale: LnlScale,
+}
+
+/// The samples behind the residuals: ln L = −(N/2) ln(SSR + SSR₀). A residual per sample has
+/// N = their number and SSR₀ = 0; residuals of bin means (a count c each, weighted by √c)
+/// stand for N samples and leave out the scatter inside the bins, SSR₀.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LnlScale {
+    /// N; `None`: the number of residuals.
+    pub samples: Option<f64>,
+    /// SSR₀.
+    pub ssr_offset: f64,
+}
+
+impl Convergence {
+    /// LM's own tests only, every evaluation fine.
+    pub fn iterations(max_iter: usize) -> Self {
+        Self { max_iter, lnl_tolerance: None, coarse_above: None, scale: LnlScale { samples: None, ssr_offset: 0.0 } }
+    }
+}
+
+/// The Gauss–Newton decrement gᵀA⁻¹g in ln L units, (N/2)·gᵀA⁻¹g/(SSR + SSR₀); NaN where A is
+/// singular (an unidentified direction: the test then does not apply).
+fn decrement_lnl(a: &DMatrix<f64>, g: &DVector<f64>, ssr: f64, n: usize, scale: &LnlScale) -> f64 {
+    let mut l = a.clone();
+    for k in 0..a.nrows() {
+        // a relative ridge of round-off size, so that a merely ill-conditioned A factors
+        l[(k, k)] += 1e-12 * a[(k, k)].max(1e-300);
+    }
+    match l.cholesky() {
+        Some(c) => 0.5 * scale.samples.unwrap_or(n as f64) * g.dot(&c.solve(g)) / (ssr + scale.ssr_offset).max(1e-300),
+        None => f64::NAN,
+    }
+}
+
+/// An evaluation with its normal equations: (residuals and Jacobian, JᵀJ, Jᵀr, SSR).
+type Normal = (Eval, DMatrix<f64>, DVector<f64>, f64);
+
+/// The switch to fine evaluations at θ: the sum of squares and its gradient recomputed there.
+fn refine<E>(
+    f: &mut impl FnMut(&[f64], Accuracy) -> Result<Eval, E>,
+    theta: &[f64],
+    m: usize,
+    evals: &mut usize,
+) -> Result<Normal, E> {
+    *evals += 1;
+    let e = f(theta, Accuracy::Fine)?;
+    let (a, g, s) = normal_equations(&e, m);
+    Ok((e, a, g, s))
+}
+
 /// Minimises Σ r(θ)² from `theta0`. `f` returns `Err` where the model cannot be evaluated
 /// (e.g. an unstable trial point); such a trial step is rejected and the damping raised.
 pub fn minimize<E>(
@@ -100,21 +184,65 @@ pub fn minimize<E>(
     mut f: impl FnMut(&[f64]) -> Result<Eval, E>,
     max_iter: usize,
 ) -> Result<LmResult, E> {
+    minimize_with(theta0, |t, _| f(t), &Convergence::iterations(max_iter))
+}
+
+/// [`minimize`] under the tests of `c`; `f` is told how accurately to evaluate.
+pub fn minimize_with<E>(
+    theta0: &[f64],
+    mut f: impl FnMut(&[f64], Accuracy) -> Result<Eval, E>,
+    c: &Convergence,
+) -> Result<LmResult, E> {
     let m = theta0.len();
     let mut theta = theta0.to_vec();
-    let mut e = f(&theta)?;
+    let mut accuracy = if c.coarse_above.is_some() { Accuracy::Coarse } else { Accuracy::Fine };
+    let mut e = match f(&theta, accuracy) {
+        Ok(e) => e,
+        // where the coarse setting cannot evaluate the start, the fine one decides
+        Err(_) if accuracy == Accuracy::Coarse => {
+            accuracy = Accuracy::Fine;
+            f(&theta, accuracy)?
+        }
+        Err(err) => return Err(err),
+    };
     let mut evals = 1;
     let (mut a, mut g, mut ssr) = normal_equations(&e, m);
     let mut mu = 1e-3 * (0..m).map(|k| a[(k, k)]).fold(0.0, f64::max).max(1e-300);
     let mut nu = 2.0;
-    let mut reason = StopReason::IterationLimit;
+    let reason;
     let mut it = 0;
-    while it < max_iter {
-        it += 1;
-        if g.amax() <= 1e-14 * ssr.max(1e-300).sqrt() {
-            reason = StopReason::GradientVanished;
+    loop {
+        let stop = if it >= c.max_iter {
+            Some(StopReason::IterationLimit)
+        } else if g.amax() <= 1e-14 * ssr.max(1e-300).sqrt() {
+            Some(StopReason::GradientVanished)
+        } else {
+            let dec = (c.lnl_tolerance.is_some() || accuracy == Accuracy::Coarse)
+                .then(|| decrement_lnl(&a, &g, ssr, e.r.len(), &c.scale));
+            match (accuracy, dec) {
+                (Accuracy::Coarse, Some(d)) if c.coarse_above.is_some_and(|x| d < x) => {
+                    (e, a, g, ssr) = refine(&mut f, &theta, m, &mut evals)?;
+                    accuracy = Accuracy::Fine;
+                    continue;
+                }
+                (Accuracy::Fine, Some(d)) if c.lnl_tolerance.is_some_and(|x| d < x) => Some(StopReason::Converged),
+                _ => None,
+            }
+        };
+        if let Some(r) = stop {
+            // a coarse search that would stop goes on with fine evaluations (no further iterations
+            // at the limit: the result is then the fine value at the last point)
+            if accuracy == Accuracy::Coarse {
+                (e, a, g, ssr) = refine(&mut f, &theta, m, &mut evals)?;
+                accuracy = Accuracy::Fine;
+                if r != StopReason::IterationLimit {
+                    continue;
+                }
+            }
+            reason = r;
             break;
         }
+        it += 1;
         // (A + μ diag(A)) δ = −g, with a floor on the diagonal for unidentified directions
         let mut lhs = a.clone();
         for k in 0..m {
@@ -129,7 +257,8 @@ pub fn minimize<E>(
         let step_small = delta.norm() <= 1e-12 * (DVector::from_column_slice(&theta).norm() + 1e-12);
         let trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
         evals += 1;
-        let accepted = match f(&trial) {
+        let mut small_reduction = false;
+        let accepted = match f(&trial, accuracy) {
             Ok(et) => {
                 let ssr_t: f64 = et.r.iter().map(|x| x * x).sum();
                 // predicted reduction of the quadratic model
@@ -143,16 +272,10 @@ pub fn minimize<E>(
                     let rel = (ssr - ssr_t) / ssr.max(1e-300);
                     theta = trial;
                     e = et;
-                    let (a2, g2, s2) = normal_equations(&e, m);
-                    a = a2;
-                    g = g2;
-                    ssr = s2;
+                    (a, g, ssr) = normal_equations(&e, m);
                     mu *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
                     nu = 2.0;
-                    if rel < 1e-10 {
-                        reason = StopReason::SmallReduction;
-                        break;
-                    }
+                    small_reduction = rel < 1e-10;
                     true
                 } else {
                     false
@@ -160,17 +283,28 @@ pub fn minimize<E>(
             }
             Err(_) => false,
         };
-        if !accepted {
-            if step_small {
-                reason = StopReason::SmallStep;
-                break;
-            }
+        let stop = if accepted {
+            small_reduction.then_some(StopReason::SmallReduction)
+        } else if step_small {
+            Some(StopReason::SmallStep)
+        } else {
             mu *= nu;
             nu *= 2.0;
-            if mu > 1e20 {
-                reason = StopReason::DampingDiverged;
-                break;
+            (mu > 1e20).then_some(StopReason::DampingDiverged)
+        };
+        if let Some(r) = stop {
+            if accuracy == Accuracy::Coarse {
+                (e, a, g, ssr) = refine(&mut f, &theta, m, &mut evals)?;
+                accuracy = Accuracy::Fine;
+                // the damping that diverged on coarse values starts again
+                if r == StopReason::DampingDiverged {
+                    mu = 1e-3 * (0..m).map(|k| a[(k, k)]).fold(0.0, f64::max).max(1e-300);
+                    nu = 2.0;
+                }
+                continue;
             }
+            reason = r;
+            break;
         }
     }
     let _ = &e;
@@ -212,5 +346,59 @@ mod tests {
         };
         let r = minimize(&[1.0, 0.1], f, 200).unwrap();
         assert!((r.theta[0] - 2.0).abs() < 1e-8 && (r.theta[1] - 1.3).abs() < 1e-8, "{r:?}");
+    }
+
+    /// A noisy exponential decay: residuals of N samples, and its exact-precision optimum.
+    fn decay_problem(coarse_bias: f64) -> impl FnMut(&[f64], Accuracy) -> Result<Eval, ()> {
+        let ts: Vec<f64> = (0..2000).map(|i| i as f64 * 0.005).collect();
+        // deterministic "noise" of σ ≈ 0.01
+        let ys: Vec<f64> = ts
+            .iter()
+            .enumerate()
+            .map(|(i, t)| 2.0 * (-1.3 * t).exp() + 0.01 * ((i * 7919 % 1000) as f64 / 500.0 - 1.0))
+            .collect();
+        move |p: &[f64], acc: Accuracy| {
+            // a coarse evaluation is off by a smooth error, as a looser solver is
+            let bias = if acc == Accuracy::Coarse { coarse_bias } else { 0.0 };
+            let mut r = vec![];
+            let mut j = vec![];
+            for (t, y) in ts.iter().zip(&ys) {
+                let e = (-p[1] * t).exp();
+                r.push(p[0] * e * (1.0 + bias) - y);
+                j.extend([e, -p[0] * t * e]);
+            }
+            Ok(Eval { r, j })
+        }
+    }
+
+    /// Stopping on the Gauss–Newton decrement ends within the tolerance of the optimum's ln L,
+    /// in fewer evaluations than LM's relative-reduction test.
+    #[test]
+    fn the_decrement_test_stops_within_its_tolerance() {
+        let full = minimize_with(&[1.0, 0.1], decay_problem(0.0), &Convergence::iterations(200)).unwrap();
+        let c = Convergence { lnl_tolerance: Some(1e-3), ..Convergence::iterations(200) };
+        let r = minimize_with(&[1.0, 0.1], decay_problem(0.0), &c).unwrap();
+        assert_eq!(r.reason, StopReason::Converged);
+        let dlnl = 0.5 * 2000.0 * (r.ssr / full.ssr).ln();
+        assert!((0.0..1e-3).contains(&dlnl), "ln L short of the optimum's by {dlnl}");
+        assert!(r.evaluations < full.evaluations, "{} vs {}", r.evaluations, full.evaluations);
+    }
+
+    /// A coarse phase (here a 1% bias) never reaches the result: the search ends on fine
+    /// evaluations, at the fine optimum.
+    #[test]
+    fn a_coarse_phase_ends_in_fine_evaluations() {
+        let full = minimize_with(&[1.0, 0.1], decay_problem(0.0), &Convergence::iterations(200)).unwrap();
+        let c = Convergence { lnl_tolerance: Some(1e-3), coarse_above: Some(100.0), ..Convergence::iterations(200) };
+        let r = minimize_with(&[1.0, 0.1], decay_problem(0.01), &c).unwrap();
+        assert_eq!(r.reason, StopReason::Converged);
+        assert!((0.5 * 2000.0 * (r.ssr / full.ssr).ln()).abs() < 1e-3, "{} vs {}", r.ssr, full.ssr);
+        assert!((r.theta[0] - full.theta[0]).abs() < 1e-4 && (r.theta[1] - full.theta[1]).abs() < 1e-4, "{r:?}");
+        // a limit reached while coarse still reports the fine value there
+        let c1 = Convergence { max_iter: 1, ..c };
+        let mut f = decay_problem(0.01);
+        let r1 = minimize_with(&[1.0, 0.1], &mut f, &c1).unwrap();
+        let fine: f64 = f(&r1.theta, Accuracy::Fine).unwrap().r.iter().map(|x| x * x).sum();
+        assert_eq!(r1.ssr, fine);
     }
 }

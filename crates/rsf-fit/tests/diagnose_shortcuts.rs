@@ -1,7 +1,9 @@
 //! The diagnosis's shortcuts against the full computation (issue 22): its fits search their
 //! optimum on bin means (`BinMeans::Search`) at the diagnosis's solver tolerance
-//! (`DIAGNOSE_RTOL`), and each result is evaluated on every sample; the full computation fits
-//! every sample at `rsf fit`'s 1e-7. On three records of the detection study, made by the
+//! (`DIAGNOSE_RTOL`), solve coarsely while far from the optimum and stop when a Gauss–Newton
+//! step would gain less than 1e-4 in ln L (`DIAGNOSE_SEARCH`), and each result is evaluated on
+//! every sample by one plain solve, its covariance from the bins; the full computation fits
+//! every sample at `rsf fit`'s 1e-7 to LM's own stopping tests. On three records of the detection study, made by the
 //! independent generator (`benches/detection/generate.py`: a second state under AR(1) noise in
 //! time on variable sampling, a cut-off only a 10⁴ s hold reaches, and issue 21's 1/f-drift
 //! gouge record with nothing hidden), both name the same cause, and every candidate's ΔBIC
@@ -9,7 +11,7 @@
 
 use rsf_fit::data::{ReadOptions, read_record};
 use rsf_fit::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
-use rsf_fit::fit::{BinMeans, FitOptions, LoadingMode};
+use rsf_fit::fit::{BinMeans, FitOptions, LoadingMode, SearchPrecision};
 use rsf_fit::segment::{SegmentOptions, detect};
 use rsf_laws::law_by_name;
 
@@ -27,9 +29,11 @@ fn both(file: &str, k: f64) -> (Diagnosis, Diagnosis) {
     fit.loading = LoadingMode::Protocol;
     let short = DiagnoseOptions::new(fit);
     assert!(matches!(short.fit.bins, BinMeans::Search { .. }), "the diagnosis searches on bins by default");
+    assert!(short.fit.search.lnl_tolerance.is_some() && short.fit.search.coarse_rtol.is_some());
     let mut full = short.clone();
     full.fit.bins = BinMeans::Off;
     full.fit.rtol = 1e-7;
+    full.fit.search = SearchPrecision::default();
     (diagnose(&rec, &segs, &short).unwrap(), diagnose(&rec, &segs, &full).unwrap())
 }
 

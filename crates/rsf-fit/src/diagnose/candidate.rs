@@ -24,10 +24,22 @@ const TRAINING_BLIND_FACTOR: f64 = 10.0;
 /// held-out test caught; record 82's real cut-off scores −4006.)
 pub(super) const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
 
-/// A candidate's held-out training fit may do this many times the work of its fit on the whole
-/// record, and at least `HELDOUT_MIN_STEPS` integrator steps.
-const HELDOUT_WORK_FACTOR: f64 = 5.0;
+/// A candidate's held-out training fit may do this many times the work of the baseline's
+/// training fit, and at least `HELDOUT_MIN_STEPS` integrator steps. (On the 60–75k-row records
+/// of docs/BENCHMARKS.md the candidates' training fits took 0.1–4.3 times the baseline's
+/// training fit, 7,000–280,000 steps: the cap stops only a runaway.) Known before any
+/// candidate is fitted, so that each held-out test runs beside its candidate's fit.
+const HELDOUT_WORK_FACTOR: f64 = 20.0;
 const HELDOUT_MIN_STEPS: u64 = 1_000_000;
+
+/// An extension fitted to the whole record: which way (`extension`, options `o`), the fit and
+/// its residuals' noise.
+pub(super) struct FullFit {
+    pub(super) extension: String,
+    pub(super) o: FitOptions,
+    pub(super) f: FitResult,
+    pub(super) nf: Noisy,
+}
 
 /// A free stiffness fitted from the nominal k that stays above this fraction of it has not
 /// moved off the nominal (a stiff nominal leaves no gradient in k): softer starts are tried.
@@ -157,28 +169,46 @@ impl Ctx<'_> {
         !v.is_empty() && v_min > TRAINING_BLIND_FACTOR * vc
     }
 
-    pub(super) fn candidate(&self, cause: Cause) -> Option<Candidate> {
+    /// The options of `cause`'s extension when it has one way only: its held-out test can then
+    /// run beside its fit on the whole record (the evolution law's two ways wait for the fit to
+    /// say which one to test).
+    pub(super) fn single_variant(&self, cause: Cause) -> Option<FitOptions> {
+        let mut v = self.variants(cause);
+        (v.len() == 1).then(|| v.remove(0).1)
+    }
+
+    /// The extension `cause` fitted to the whole record from the baseline optimum: its best way.
+    pub(super) fn full_fit(&self, cause: Cause) -> Option<FullFit> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
-        let threads = self.opts.threads;
-        let (extension, o, pc, f, nf) =
-            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, threads)?;
+        let (extension, o, _, f, nf) =
+            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads)?;
+        Some(FullFit { extension, o, f, nf })
+    }
+
+    /// The held-out test of the extension `o`: its training fit, from the baseline's training
+    /// optimum, under a work cap ([`HELDOUT_WORK_FACTOR`] times the baseline's training fit, at
+    /// least [`HELDOUT_MIN_STEPS`]: a training fit wandering into a stiff corner must not
+    /// dominate the run).
+    pub(super) fn heldout_fit(&self, o: &FitOptions) -> Option<(f64, FitResult)> {
+        let (_, ft_base) = self.ho_base.as_ref()?;
+        let cap = ((HELDOUT_WORK_FACTOR * ft_base.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
+        let pc = prepare(self.rec, self.segs, o).ok()?;
+        heldout(
+            &pc.record,
+            &pc.segments,
+            o,
+            &|pt: &Prepared, ot: &FitOptions| {
+                let ot = FitOptions { budget: Budget { steps: cap, ..ot.budget }, ..ot.clone() };
+                self.fit_best(pt, &ot, &ft_base.params, self.opts.threads)
+            },
+            self.t_split,
+        )
+    }
+
+    /// The candidate `cause` from its fit on the whole record and its held-out test.
+    pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
+        let FullFit { extension, o, f, nf } = full;
         let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
-        // the training part is smaller than the record: its fit gets a multiple of the full
-        // fit's work (a training fit wandering into a stiff corner must not dominate the run)
-        let ho_steps = ((HELDOUT_WORK_FACTOR * f.steps as f64) as u64).max(HELDOUT_MIN_STEPS).min(o.budget.steps);
-        let ho = match &self.ho_base {
-            Some((_, ft_base)) => heldout(
-                &pc.record,
-                &pc.segments,
-                &o,
-                &|pt: &Prepared, ot: &FitOptions| {
-                    let ot = FitOptions { budget: Budget { steps: ho_steps, ..ot.budget }, ..ot.clone() };
-                    self.fit_best(pt, &ot, &ft_base.params, threads)
-                },
-                self.t_split,
-            ),
-            None => None,
-        };
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
         // the extension's gain on the training part alone
@@ -186,7 +216,7 @@ impl Ctx<'_> {
             (Some((_, ft_base)), Some(nt_base), Some((_, ft))) => Some(scores(ft_base, nt_base, ft, &noisy(ft)).0),
             _ => None,
         };
-        Some(Candidate {
+        Candidate {
             cause,
             extension,
             delta_bic: dbic,
@@ -205,7 +235,7 @@ impl Ctx<'_> {
             fit: Some(f),
             heldout_fit: ho.map(|h| h.1),
             options: Some(o),
-        })
+        }
     }
 
     /// Why a decisive effect is no finding: a stiffness within [`STIFFNESS_CALIBRATION`] of the
@@ -324,39 +354,62 @@ pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], leve
     let nf1 = noisy(f1);
     let o1 = c1.options.clone()?;
     let threads = ctx.opts.threads;
-    let tries = par_map(&others, threads, |c2| -> Option<Secondary> {
-        let o = c2.cause.extend(&o1, &ctx.base_law)?;
-        let pc = prepare(ctx.rec, ctx.segs, &o).ok()?;
+    // the combinations' fits on the whole record and their held-out tests, all side by side
+    // (each held-out fit starts from the two training optima, never from a fit that saw the
+    // held-out part)
+    let jobs: Vec<(usize, bool)> = (0..others.len())
+        .map(|i| (i, false))
+        .chain((0..others.len()).filter(|_| ctx.opts.heldout).map(|i| (i, true)))
+        .collect();
+    enum Part {
+        Full(Option<Box<(FitOptions, FitResult)>>),
+        Heldout(Option<f64>),
+    }
+    let parts = par_map(&jobs, threads, |&(i, held_out)| {
+        let c2 = others[i];
+        let Some(o) = c2.cause.extend(&o1, &ctx.base_law) else {
+            return if held_out { Part::Heldout(None) } else { Part::Full(None) };
+        };
+        let Ok(pc) = prepare(ctx.rec, ctx.segs, &o) else {
+            return if held_out { Part::Heldout(None) } else { Part::Full(None) };
+        };
+        if held_out {
+            let ho = match (&c1.heldout_fit, &c2.heldout_fit) {
+                (Some(ft1), Some(ft2)) => {
+                    let from = merge(&ft1.params, &ft2.params, c2.cause);
+                    let train = |pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &from, 1);
+                    heldout(&pc.record, &pc.segments, &o, &train, ctx.t_split).map(|h| h.0)
+                }
+                _ => None,
+            };
+            return Part::Heldout(ho);
+        }
         // from both optima: the winner's, with the added extension's parameters from its own
         // fit (no second Vc profile, no second search for a soft machine)
         let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
-        let f = ctx.fit_best(&pc, &o, &from, threads)?;
-        let (dbic, _) = scores(f1, &nf1, &f, &noisy(&f));
-        // held out: from the two training optima, never from a fit that saw the held-out part
-        let ho = match (&c1.heldout_fit, &c2.heldout_fit, ctx.opts.heldout) {
-            (Some(ft1), Some(ft2), true) => {
-                let from = merge(&ft1.params, &ft2.params, c2.cause);
-                heldout(
-                    &pc.record,
-                    &pc.segments,
-                    &o,
-                    &|pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &from, threads),
-                    ctx.t_split,
-                )
-                .map(|h| h.0)
-            }
-            _ => None,
-        };
-        Some(Secondary {
-            cause: c2.cause,
-            delta_bic: dbic,
-            rms_ratio: f.rms / f1.rms,
-            heldout_rms_before: c1.heldout_rms_after,
-            heldout_rms_after: ho,
-            effect: effect_of(&[c1.cause, c2.cause], &f),
-            fit: f,
-        })
+        Part::Full(ctx.fit_best(&pc, &o, &from, 1).map(|f| Box::new((o, f))))
     });
+    let (full, held): (Vec<Part>, Vec<Part>) = parts.into_iter().partition(|p| matches!(p, Part::Full(_)));
+    let held: Vec<Option<f64>> = held.into_iter().map(|p| if let Part::Heldout(h) = p { h } else { None }).collect();
+    let tries: Vec<Option<Secondary>> = full
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let Part::Full(Some(b)) = p else { return None };
+            let (_, f) = *b;
+            let c2 = others[i];
+            let (dbic, _) = scores(f1, &nf1, &f, &noisy(&f));
+            Some(Secondary {
+                cause: c2.cause,
+                delta_bic: dbic,
+                rms_ratio: f.rms / f1.rms,
+                heldout_rms_before: c1.heldout_rms_after,
+                heldout_rms_after: held.get(i).copied().flatten(),
+                effect: effect_of(&[c1.cause, c2.cause], &f),
+                fit: f,
+            })
+        })
+        .collect();
     tries
         .into_iter()
         .flatten()

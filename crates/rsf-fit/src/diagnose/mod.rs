@@ -144,6 +144,27 @@ pub const SEARCH_BINS_ABOVE: usize = 5_000;
 /// The bins' span as a fraction of the time since their segment's start.
 pub const SEARCH_BIN_FRACTION: f64 = 0.003;
 
+/// A diagnosis's fit stops when its Gauss–Newton step would gain less than this in ln L (white
+/// noise, every sample): 1e-4 keeps every ΔBIC of the detection records within 0.2 of the fit
+/// run to LM's own relative reduction of 1e-10. A looser 1e-2 moved a misfitting baseline's
+/// noise-model ΔBIC by 13 (its correlated noise model weighs a step's edge far more than white
+/// noise does), at a fifth less work.
+pub const DIAGNOSE_LNL_TOLERANCE: f64 = 1e-4;
+/// While its step would gain more than [`DIAGNOSE_COARSE_ABOVE`] in ln L, a diagnosis's fit
+/// solves at this tolerance: far from the optimum a direction is all the search needs. A
+/// hundred times [`DIAGNOSE_RTOL`]: 1e-3 took as much work again (more, shorter LM steps).
+pub const DIAGNOSE_COARSE_RTOL: f64 = 1e-4;
+/// See [`DIAGNOSE_COARSE_RTOL`]: far above the coarse solves' own error in ln L, so the fine
+/// phase starts near the optimum.
+pub const DIAGNOSE_COARSE_ABOVE: f64 = 100.0;
+
+/// The diagnosis's search precision ([`DIAGNOSE_LNL_TOLERANCE`], [`DIAGNOSE_COARSE_RTOL`]).
+pub const DIAGNOSE_SEARCH: crate::fit::SearchPrecision = crate::fit::SearchPrecision {
+    lnl_tolerance: Some(DIAGNOSE_LNL_TOLERANCE),
+    coarse_rtol: Some(DIAGNOSE_COARSE_RTOL),
+    coarse_above: DIAGNOSE_COARSE_ABOVE,
+};
+
 impl DiagnoseOptions {
     /// Everything on: held-out test, per-segment refits, combinations, the null calibration
     /// (16 replicates, 1% level, seed 1), all cores, no progress.
@@ -153,7 +174,7 @@ impl DiagnoseOptions {
     pub fn new(fit: FitOptions) -> Self {
         let bins = crate::fit::BinMeans::Search { above: SEARCH_BINS_ABOVE, fraction: SEARCH_BIN_FRACTION };
         Self {
-            fit: FitOptions { rtol: DIAGNOSE_RTOL, bins, ..fit },
+            fit: FitOptions { rtol: DIAGNOSE_RTOL, bins, search: DIAGNOSE_SEARCH, ..fit },
             heldout: true,
             per_segment: true,
             combinations: true,

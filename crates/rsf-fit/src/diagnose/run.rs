@@ -1,7 +1,7 @@
 //! The diagnosis: baseline, reconstruction check, evidence, candidates, held-out tests, the
 //! null calibration, the decision.
 
-use super::candidate::{Ctx, secondary};
+use super::candidate::{Ctx, FullFit, secondary};
 use super::cause::Cause;
 use super::decide::{heldout_ok, ineligible, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
@@ -65,12 +65,20 @@ fn baseline(
 }
 
 enum Job {
+    /// A candidate's fit on the whole record (and its held-out test when that waits for it).
     Candidate(Cause),
+    /// A candidate's held-out test, beside its fit.
+    Heldout(Cause, Box<FitOptions>),
     Event(usize, usize),
 }
 
+/// A held-out test's outcome: the prediction's rms and the training fit.
+type HeldOut = Option<(f64, FitResult)>;
+
 enum Done {
-    Candidate(Option<Box<Candidate>>),
+    /// The fit on the whole record, and the held-out test when it ran in the same job.
+    Candidate(Cause, Option<Box<(FullFit, Option<HeldOut>)>>),
+    Heldout(Cause, Box<HeldOut>),
     Event(Option<EventFit>),
 }
 
@@ -168,13 +176,19 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ho_base,
         lp_noise,
     };
-    let mut jobs: Vec<Job> = Cause::CANDIDATES
+    let causes: Vec<Cause> = Cause::CANDIDATES
         .into_iter()
         .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
         // α acts only through changes of σ
         .filter(|&c| c != Cause::NormalStressCoupling || ctx.p.normal_stress.is_some())
-        .map(Job::Candidate)
         .collect();
+    // each held-out test beside its candidate's fit, where it does not wait for the fit's choice
+    let beside: Vec<(Cause, FitOptions)> = match ctx.ho_base {
+        Some(_) => causes.iter().filter_map(|&c| ctx.single_variant(c).map(|o| (c, o))).collect(),
+        None => vec![],
+    };
+    let mut jobs: Vec<Job> = causes.iter().map(|&c| Job::Candidate(c)).collect();
+    jobs.extend(beside.iter().map(|(c, o)| Job::Heldout(*c, Box::new(o.clone()))));
     if opts.per_segment {
         jobs.extend(event_windows(&ctx.p).into_iter().map(|(a, b)| Job::Event(a, b)));
     }
@@ -182,7 +196,16 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let results = par_map(&jobs, opts.threads, |job| {
         let clock = std::time::Instant::now();
         let (what, out) = match job {
-            Job::Candidate(c) => (c.to_string(), Done::Candidate(ctx.candidate(*c).map(Box::new))),
+            Job::Candidate(c) => {
+                let full = ctx.full_fit(*c).map(|ff| {
+                    // the held-out test of the way the fit chose, when it could not run beside
+                    let ho =
+                        (ctx.ho_base.is_some() && !beside.iter().any(|b| b.0 == *c)).then(|| ctx.heldout_fit(&ff.o));
+                    Box::new((ff, ho))
+                });
+                (c.to_string(), Done::Candidate(*c, full))
+            }
+            Job::Heldout(c, o) => (format!("{c} held out"), Done::Heldout(*c, Box::new(ctx.heldout_fit(o)))),
             Job::Event(a, b) => {
                 (format!("segment {}", b + 1), Done::Event(fit_event(&ctx.p, &ctx.base_opts, &ctx.base, *a, *b)))
             }
@@ -196,15 +219,24 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         }
         out
     });
-    let mut candidates = vec![];
+    let mut fulls = vec![];
+    let mut heldouts = vec![];
     let mut per_segment = vec![];
     for r in results {
         match r {
-            Done::Candidate(Some(c)) => candidates.push(*c),
-            Done::Candidate(None) => {}
+            Done::Candidate(c, Some(b)) => fulls.push((c, *b)),
+            Done::Candidate(_, None) => {}
+            Done::Heldout(c, h) => heldouts.push((c, *h)),
             Done::Event(e) => per_segment.extend(e),
         }
     }
+    let mut candidates: Vec<Candidate> = fulls
+        .into_iter()
+        .map(|(c, (ff, ho))| {
+            let ho = ho.unwrap_or_else(|| heldouts.iter().find(|h| h.0 == c).and_then(|h| h.1.clone()));
+            ctx.candidate(c, ff, ho)
+        })
+        .collect();
     let mut ev = ctx.ev.clone();
     (ev.dc_consistency_chi2, ev.dc_vs_ln_step, ev.dc_vs_ln_hold) = dc_consistency(&per_segment);
     candidates.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));

@@ -171,6 +171,39 @@ pub fn model_curve(
     Ok(mu)
 }
 
+/// The model at the used samples without sensitivities: friction (with its segment offsets)
+/// and slip rate from one solve, and the integrator steps taken.
+pub(super) struct AtSamples {
+    pub(super) mu: Vec<f64>,
+    pub(super) slip_rate: Vec<f64>,
+    pub(super) steps: u64,
+}
+
+/// [`AtSamples`] for the full parameter vector.
+pub(super) fn model_at_samples(
+    p: &Prepared,
+    map: &ParamMap,
+    opts: &FitOptions,
+    full: &[f64],
+) -> Result<AtSamples, SolveError> {
+    let model = map.model(opts, full, p.v_init).map_err(SolveError::Input)?;
+    let alg = rsf_solvers::AutoDopri5 {
+        max_steps: FIT_MAX_STEPS,
+        ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
+    };
+    let s = rsf_solvers::solve(&forward_problem(p, opts, model), &alg)?;
+    let np = n_params(map.n_states);
+    let mut mu = s.mu;
+    if map.slots.len() > np {
+        for (r, &seg) in p.seg_of.iter().enumerate() {
+            if seg > 0 {
+                mu[r] += full[np + seg - 1];
+            }
+        }
+    }
+    Ok(AtSamples { mu, slip_rate: s.slip_rate, steps: s.stats.accepted + s.stats.rejected })
+}
+
 /// Model slip rate at the used samples for the full parameter vector (for residuals against
 /// log V): one forward solve.
 pub(super) fn model_slip_rate(

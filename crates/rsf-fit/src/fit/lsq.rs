@@ -1,7 +1,7 @@
 //! Starting points and Levenberg–Marquardt under the work budget: [`fit`].
 
 use super::covariance::{covariance, intervals};
-use super::forward::{evaluate, model_slip_rate};
+use super::forward::{AtSamples, evaluate, model_at_samples, model_slip_rate};
 use super::params::within_bounds;
 use super::{
     AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamMap, ParamName, Params, Prepared, SegmentRow,
@@ -18,11 +18,16 @@ use std::collections::BTreeMap;
 /// [`BinMeans::Search`](super::BinMeans::Search) the optimum is sought on bin means and the
 /// result evaluated on every sample of `p`.
 pub fn fit(p: &Prepared, opts: &FitOptions) -> Result<FitResult, FitError> {
-    let s = match opts.bins.search_points(p) {
-        Some(pb) => search(&pb, opts)?,
-        None => search(p, opts)?,
-    };
-    report(p, opts, s)
+    match opts.bins.search_points(p) {
+        Some(pb) => {
+            let s = search(&pb, opts)?;
+            report(p, Some(&pb), opts, s)
+        }
+        None => {
+            let s = search(p, opts)?;
+            report(p, None, opts, s)
+        }
+    }
 }
 
 /// The optimum of a [`search`]: where it is, on which parameter map, and the work it took.
@@ -46,7 +51,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let cap = Cell::new(opts.budget.steps);
     let hit = Cell::new(None::<BudgetHit>);
     let clock = std::time::Instant::now();
-    let objective = |theta: &[f64]| -> Result<Eval, SolveError> {
+    let objective = |theta: &[f64], accuracy: lm::Accuracy| -> Result<Eval, SolveError> {
         if opts.cancelled() {
             return Err(SolveError::Input("cancelled".into()));
         }
@@ -58,7 +63,11 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
             hit.set(Some(BudgetHit::WallClockGuard));
             return Err(SolveError::Input("the fit's wall-clock guard was hit".into()));
         }
-        let e = evaluate(p, &map, opts, theta, opts.rtol)?;
+        let rtol = match accuracy {
+            lm::Accuracy::Fine => opts.rtol,
+            lm::Accuracy::Coarse => opts.search.coarse_rtol.unwrap_or(opts.rtol),
+        };
+        let e = evaluate(p, &map, opts, theta, rtol)?;
         used.set(used.get() + e.steps);
         let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
         let mut j = e.raw_j;
@@ -135,6 +144,12 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
         starts.push(scale(name, f));
     }
     starts.truncate(opts.starts.max(1) + if opts.laws.len() > 1 { 2 } else { 0 });
+    // ln L of the samples the points stand for (bin means leave out their bins' scatter)
+    let scale = lm::LnlScale {
+        samples: Some(p.samples() as f64),
+        ssr_offset: (0..p.used.len()).map(|r| p.weights[r].powi(2) / p.count(r) * p.within(r)).sum(),
+    };
+    let convergence = opts.search.convergence(opts.max_iter, scale);
     let mut best: Option<lm::LmResult> = None;
     // the budget that stopped the best start, if one did: not converged, and said so
     let mut best_hit = None;
@@ -149,7 +164,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
         let share = first_steps.map_or(u64::MAX, |f| (opts.budget.per_start_factor * f.max(1) as f64) as u64);
         cap.set(opts.budget.steps.min(before.saturating_add(share)));
         hit.set(None);
-        let res = lm::minimize(s, &objective, opts.max_iter);
+        let res = lm::minimize_with(s, &objective, &convergence);
         first_steps.get_or_insert(used.get() - before);
         match res {
             Ok(r) => {
@@ -176,22 +191,50 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
 }
 
 /// The fit's result at the optimum `s`, evaluated on the points of `p`: curve, residuals,
-/// covariance, likelihood.
-fn report(p: &Prepared, opts: &FitOptions, s: Searched) -> Result<FitResult, FitError> {
+/// covariance, likelihood. When the search ran on the bin means `searched` of `p`, the
+/// covariance is theirs (they carry the samples' information, `bins.rs`) and the curve and
+/// residuals come from one plain solve at the samples: their sensitivities would cost m + 1
+/// times the output of the curve for nothing the result needs.
+fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searched) -> Result<FitResult, FitError> {
     let Searched { map, best, best_hit, steps, starts } = s;
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
-    let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
-    let steps = steps + e.steps;
-    let resid: Vec<f64> = e.model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
+    let full = map.full(&best.theta);
+    // the curve (and slip rate) at the samples, and the Jacobian for the covariance on the
+    // points that carry it
+    let (model_mu, slip_rate, cov, steps) = match searched {
+        Some(pb) => {
+            let eb = evaluate(pb, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
+            // (where the plain solver fails, the sensitivity solver's curve serves)
+            let c = model_at_samples(p, &map, opts, &full).or_else(|_| {
+                evaluate(p, &map, opts, &best.theta, opts.rtol).map(|e| AtSamples {
+                    mu: e.model_mu,
+                    slip_rate: vec![],
+                    steps: e.steps,
+                })
+            });
+            let c = c.map_err(FitError::Start)?;
+            // σ² from the samples' residuals (below), the Jacobian of the bins with their counts
+            let cov =
+                move |s2: f64| covariance(&eb.raw_j, &pb.weights, pb.binning.as_ref().map(|b| &b.counts[..]), m, s2);
+            (c.mu, c.slip_rate, Box::new(cov) as Box<dyn Fn(f64) -> _>, steps + eb.steps + c.steps)
+        }
+        None => {
+            let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
+            let raw_j = e.raw_j;
+            let cov = move |s2: f64| covariance(&raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
+            let v = model_slip_rate(p, &map, opts, &full).unwrap_or_default();
+            (e.model_mu, v, Box::new(cov) as Box<dyn Fn(f64) -> _>, steps + e.steps)
+        }
+    };
+    let resid: Vec<f64> = model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
     // per sample: a bin mean stands for its count, and the scatter inside it is added back
     let n = p.samples();
     let ssr_raw: f64 = resid.iter().enumerate().map(|(r, x)| p.count(r) * x * x + p.within(r)).sum();
     // σ² from the unweighted residuals
     let s2 = ssr_raw / (n as f64 - m as f64).max(1.0);
-    let cov = covariance(&e.raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
+    let cov = cov(s2);
     let (ci95, stderr) = intervals(&map, &best.theta, &cov);
-    let full = map.full(&best.theta);
     let at_bound: Vec<String> = map
         .free
         .iter()
@@ -260,9 +303,9 @@ fn report(p: &Prepared, opts: &FitOptions, s: Searched) -> Result<FitResult, Fit
         time: p.used.iter().map(|&i| p.record.time[i]).collect(),
         load_point: p.used.iter().map(|&i| p.record.load_point[i]).collect(),
         data,
-        model: e.model_mu,
+        model: model_mu,
         segment: p.seg_of.clone(),
-        slip_rate: model_slip_rate(p, &map, opts, &full).unwrap_or_default(),
+        slip_rate,
     };
     Ok(FitResult {
         params,

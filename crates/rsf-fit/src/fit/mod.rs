@@ -32,7 +32,7 @@ pub use forward::{Prediction, model_curve, predict};
 pub use lsq::fit;
 pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
-    NormalStressMode, Weighting,
+    NormalStressMode, SearchPrecision, Weighting,
 };
 pub use params::{Constraint, ParamMap, ParamName, parameter_map};
 pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};

@@ -114,6 +114,34 @@ pub struct FitOptions {
     /// the result then describes ([`super::BinMeans`]; default: bin means above
     /// [`super::BIN_ABOVE`] samples, [`super::BIN_FRACTION`]).
     pub bins: super::BinMeans,
+    /// How precisely the search runs: default LM's own tests with every solve at `rtol`.
+    pub search: SearchPrecision,
+}
+
+/// How precisely a fit's search runs. A diagnosis's many fits need each log-likelihood to a
+/// hundredth, not the optimum to round-off: they stop when the Gauss–Newton step would gain
+/// less than `lnl_tolerance`, and solve at a looser tolerance while far from the optimum
+/// ([`crate::lm::Convergence`]). The result is always evaluated at the fit's `rtol`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SearchPrecision {
+    /// Stop when the Gauss–Newton step's predicted gain is below this, in units of ln L.
+    pub lnl_tolerance: Option<f64>,
+    /// The integrator tolerance while the predicted gain exceeds `coarse_above` (ln L units).
+    pub coarse_rtol: Option<f64>,
+    /// See `coarse_rtol`.
+    pub coarse_above: f64,
+}
+
+impl SearchPrecision {
+    /// The LM tests for `max_iter` iterations, ln L counted in `scale`.
+    pub fn convergence(&self, max_iter: usize, scale: crate::lm::LnlScale) -> crate::lm::Convergence {
+        crate::lm::Convergence {
+            max_iter,
+            lnl_tolerance: self.lnl_tolerance,
+            coarse_above: self.coarse_rtol.map(|_| self.coarse_above),
+            scale,
+        }
+    }
 }
 
 impl FitOptions {
@@ -204,6 +232,7 @@ impl FitOptions {
             alpha: AlphaFit::Fixed,
             cancel: None,
             bins: super::BinMeans::Replace { above: super::BIN_ABOVE, fraction: super::BIN_FRACTION },
+            search: SearchPrecision::default(),
         }
     }
 }
