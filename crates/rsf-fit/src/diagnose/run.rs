@@ -233,7 +233,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let mut candidates: Vec<Candidate> = fulls
         .into_iter()
         .map(|(c, (ff, ho))| {
-            let ho = ho.unwrap_or_else(|| heldouts.iter().find(|h| h.0 == c).and_then(|h| h.1.clone()));
+            let ho =
+                ho.unwrap_or_else(|| heldouts.iter().position(|h| h.0 == c).and_then(|i| heldouts.swap_remove(i).1));
             ctx.candidate(c, ff, ho)
         })
         .collect();

@@ -204,22 +204,6 @@ pub(super) fn model_at_samples(
     Ok(AtSamples { mu, slip_rate: s.slip_rate, steps: s.stats.accepted + s.stats.rejected })
 }
 
-/// Model slip rate at the used samples for the full parameter vector (for residuals against
-/// log V): one forward solve.
-pub(super) fn model_slip_rate(
-    p: &Prepared,
-    map: &ParamMap,
-    opts: &FitOptions,
-    full: &[f64],
-) -> Result<Vec<f64>, SolveError> {
-    let model = map.model(opts, full, p.v_init).map_err(SolveError::Input)?;
-    let alg = rsf_solvers::AutoDopri5 {
-        max_steps: FIT_MAX_STEPS,
-        ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
-    };
-    Ok(rsf_solvers::solve(&forward_problem(p, opts, model), &alg)?.slip_rate)
-}
-
 /// The forward problem of a fit for `model`: loading and output at the used samples.
 fn forward_problem(p: &Prepared, opts: &FitOptions, mut model: Model) -> Problem {
     let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();

@@ -1,7 +1,7 @@
 //! Starting points and Levenberg–Marquardt under the work budget: [`fit`].
 
 use super::covariance::{covariance, intervals};
-use super::forward::{AtSamples, evaluate, model_at_samples, model_slip_rate};
+use super::forward::{AtSamples, evaluate, model_at_samples};
 use super::params::within_bounds;
 use super::{
     AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamMap, ParamName, Params, Prepared, SegmentRow,
@@ -223,7 +223,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
             let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
             let raw_j = e.raw_j;
             let cov = move |s2: f64| covariance(&raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
-            let v = model_slip_rate(p, &map, opts, &full).unwrap_or_default();
+            let v = model_at_samples(p, &map, opts, &full).map(|c| c.slip_rate).unwrap_or_default();
             (e.model_mu, v, Box::new(cov) as Box<dyn Fn(f64) -> _>, steps + e.steps)
         }
     };
