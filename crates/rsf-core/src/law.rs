@@ -313,6 +313,10 @@ pub trait DynStateLaw: Debug + Send + Sync {
     /// A copy of this law with parameter `name` set to `value` (see
     /// [`StateLaw::set_parameter`]).
     fn with_parameter(&self, name: &str, value: f64) -> Result<std::sync::Arc<dyn DynStateLaw>, String>;
+    /// dθ/dt of this law with parameter `name` set to `value`: what
+    /// [`with_parameter`](Self::with_parameter) then [`rate`](Self::rate) give, on a copy kept
+    /// on the stack (the parameter derivatives of a sensitivity solve take it at every step).
+    fn rate_with_parameter(&self, name: &str, value: f64, s: &StateArgs<f64>) -> Result<f64, String>;
     /// The law as `Any`, so a solver can recognise a concrete law and call it directly
     /// (see [`SameLaw`](crate::SameLaw)).
     fn as_any(&self) -> &dyn std::any::Any;
@@ -352,5 +356,10 @@ impl<L: StateLaw> DynStateLaw for L {
         let mut l = self.clone();
         l.set_parameter(name, value)?;
         Ok(std::sync::Arc::new(l))
+    }
+    fn rate_with_parameter(&self, name: &str, value: f64, s: &StateArgs<f64>) -> Result<f64, String> {
+        let mut l = self.clone();
+        l.set_parameter(name, value)?;
+        Ok(l.theta_rate(s))
     }
 }

@@ -61,5 +61,6 @@ pub use law::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, NormalStressRecord, Piece, Segment, SegmentEnd, normal_stress_varies};
 pub use model::{Model, ModelError, StateVariable};
 pub use system::{
-    DynLaws, LawDispatch, N_GLOBAL, PER_STATE, SameLaw, SpringSlider, n_params, param_index, state_offset,
+    DynLaws, LawDispatch, LawParameter, N_GLOBAL, PER_STATE, SameLaw, SpringSlider, law_parameters, n_params,
+    param_index, state_offset,
 };

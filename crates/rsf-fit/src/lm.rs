@@ -77,23 +77,31 @@ pub struct LmResult {
 }
 
 fn normal_equations(e: &Eval, m: usize) -> (DMatrix<f64>, DVector<f64>, f64) {
-    let mut a = DMatrix::<f64>::zeros(m, m);
+    // the lower triangle, packed row by row, accumulated over the residuals in order
+    let mut lower = vec![0.0; m * (m + 1) / 2];
     let mut g = DVector::<f64>::zeros(m);
     let mut ssr = 0.0;
-    for (i, &ri) in e.r.iter().enumerate() {
-        let row = &e.j[i * m..(i + 1) * m];
+    for ri in &e.r {
         ssr += ri * ri;
-        for k in 0..m {
-            g[k] += row[k] * ri;
-            for l in 0..=k {
-                a[(k, l)] += row[k] * row[l];
+    }
+    for (row, &ri) in e.j.chunks_exact(m.max(1)).zip(&e.r) {
+        let mut start = 0;
+        for (k, &rk) in row.iter().enumerate() {
+            g[k] += rk * ri;
+            for (a, &rl) in lower[start..=start + k].iter_mut().zip(row) {
+                *a += rk * rl;
             }
+            start += k + 1;
         }
     }
+    let mut a = DMatrix::<f64>::zeros(m, m);
+    let mut start = 0;
     for k in 0..m {
-        for l in 0..k {
-            a[(l, k)] = a[(k, l)];
+        for l in 0..=k {
+            a[(k, l)] = lower[start + l];
+            a[(l, k)] = lower[start + l];
         }
+        start += k + 1;
     }
     (a, g, ssr)
 }

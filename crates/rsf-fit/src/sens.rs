@@ -14,7 +14,7 @@
 //! times.
 
 use nalgebra::{SMatrix, SVector};
-use rsf_core::{N_GLOBAL, PER_STATE, SpringSlider, n_params};
+use rsf_core::{LawParameter, N_GLOBAL, PER_STATE, SpringSlider, n_params};
 use rsf_solvers::{AutoDopri5, Dopri5, OdeSystem, Problem, SolveError, StepStats, Tolerances, drive};
 
 /// Friction and its parameter derivatives at the output times.
@@ -42,6 +42,8 @@ struct SensOde<'a, const D: usize, const P: usize, const PF: usize, const DA: us
     sys: SpringSlider<'a>,
     ln_v_max: f64,
     cols: [usize; P],
+    /// The laws' own parameters of the D − 2 states (the first entries).
+    law_parameters: [LawParameter; D],
 }
 
 impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem<DA> for SensOde<'_, D, P, PF, DA> {
@@ -49,9 +51,10 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
         let mut out = SVector::<f64, DA>::zeros();
         let mut dy = [0.0; D];
         let mut j = SMatrix::<f64, D, D>::zeros();
-        self.sys.jacobian(t, &ya.as_slice()[..D], &mut dy, j.as_mut_slice());
         let mut fp_full = SMatrix::<f64, D, PF>::zeros();
-        if self.sys.parameter_jacobian(t, &ya.as_slice()[..D], fp_full.as_mut_slice()).is_err() {
+        let y = &ya.as_slice()[..D];
+        let lp = &self.law_parameters[..D - 2];
+        if self.sys.sensitivity_jacobians(t, y, &mut dy, j.as_mut_slice(), fp_full.as_mut_slice(), lp).is_err() {
             out.fill(f64::NAN); // checked before integration; NaN rejects the step if it ever happens
             return out;
         }
@@ -223,6 +226,17 @@ pub fn solve_with_sensitivities(
     }
 }
 
+/// What a parameter's ∂y/∂p is in a solve.
+#[derive(Clone, Copy)]
+enum Column {
+    /// Carried as the augmented system's S column of this index.
+    Carried(usize),
+    /// Identically zero ([`zero_column`]).
+    Zero,
+    /// Not wanted, hence not carried: its ∂mu/∂p is NaN.
+    Missing,
+}
+
 type RunArgs<'a> = (&'a Problem, &'a [rsf_core::Piece], f64, f64, u64, &'a [usize]);
 
 fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
@@ -265,33 +279,41 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
         n_params: PF,
         stats: StepStats::default(),
     };
-    // the S column of each full-layout parameter (None: identically zero, or not wanted)
-    let mut col_of = [None; PF];
+    // the S column of each full-layout parameter: carried, identically zero, or not wanted
+    let mut col_of = [Column::Missing; PF];
+    for (j, c) in col_of.iter_mut().enumerate() {
+        if zero_column(model, alpha, j) {
+            *c = Column::Zero;
+        }
+    }
     for (c, &j) in cols.iter().enumerate() {
-        col_of[j] = Some(c);
+        col_of[j] = Column::Carried(c);
     }
     let (mut gy, mut gp) = ([0.0; D], [0.0; PF]);
     let ln_v_max = problem.max_slip_rate.ln();
     let mut stats = StepStats::default();
-    let mut record = |piece: &rsf_core::Piece, t: f64, ya: &SVector<f64, DA>| {
-        let sys = SpringSlider::for_piece(model, piece);
+    // the friction and its gradients do not depend on the piece (σ cancels in τ/σ)
+    let friction = SpringSlider::new(model, pieces[0].v);
+    let mut record = |_: &rsf_core::Piece, t: f64, ya: &SVector<f64, DA>| {
         let y = &ya.as_slice()[..D];
         sol.time.push(t);
-        sol.mu.push(sys.stress(y));
-        let _ = sys.stress_gradients(y, &mut gy, &mut gp);
+        sol.mu.push(friction.stress(y));
+        let _ = friction.stress_gradients(y, &mut gy, &mut gp);
         for j in 0..PF {
             let through_y = match col_of[j] {
-                Some(c) => {
+                Column::Carried(c) => {
                     let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
                     gy.iter().zip(col).map(|(a, b)| a * b).sum::<f64>()
                 }
-                None if zero_column(model, alpha, j) => 0.0,
-                None => f64::NAN,
+                Column::Zero => 0.0,
+                Column::Missing => f64::NAN,
             };
             sol.dmu.push(gp[j] + through_y);
         }
     };
-    let make = |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols };
+    let mut law_parameters = [None; D];
+    law_parameters[..D - 2].copy_from_slice(&rsf_core::law_parameters(model));
+    let make = |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols, law_parameters };
     let msr = problem.max_slip_rate;
     if DA <= MAX_IMPLICIT_SENS_DIM {
         let alg = AutoDopri5 { max_steps, ..AutoDopri5::new(rtol, atol) };

@@ -6,7 +6,8 @@ mod sensitivity;
 mod tests;
 
 pub use dispatch::{DynLaws, LawDispatch, SameLaw};
-pub use sensitivity::{N_GLOBAL, PER_STATE, n_params, param_index, state_offset};
+use sensitivity::ParamJacobian;
+pub use sensitivity::{LawParameter, N_GLOBAL, PER_STATE, law_parameters, n_params, param_index, state_offset};
 
 use crate::law::{LnArgs, StateArgs};
 use crate::loading::Piece;
@@ -262,10 +263,30 @@ impl<'a> SpringSlider<'a> {
     /// Exact Jacobian `∂(dy/dt)/∂y` at time `t`, column-major into `jac` (length (N + 2)²), and
     /// the right-hand side into `dy`.
     pub fn jacobian(&self, t: f64, y: &[f64], dy: &mut [f64], jac: &mut [f64]) {
+        // without parameter derivatives nothing can fail
+        let _ = self.jacobians(t, y, dy, jac, None);
+    }
+
+    /// [`jacobian`](Self::jacobian), and with `params` also `∂f/∂p` (see
+    /// [`parameter_jacobian`](Self::parameter_jacobian)) from the same law jets: one pass over
+    /// the states serves both, which is what a forward-sensitivity right-hand side needs at
+    /// every stage. `params` requires the classic form and a finite stiffness (checked by the
+    /// public callers). The error names a law that rejects a perturbed parameter value.
+    pub(crate) fn jacobians(
+        &self,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        jac: &mut [f64],
+        mut params: Option<ParamJacobian<'_>>,
+    ) -> Result<(), String> {
         let m = self.model;
         let n = m.states.len();
         let d = n + 2;
         jac.iter_mut().for_each(|j| *j = 0.0);
+        if let Some(p) = params.as_mut() {
+            p.fp.iter_mut().for_each(|v| *v = 0.0);
+        }
         let at = |r: usize, c: usize| c * d + r;
         let x = y[0];
         let v = x.exp();
@@ -273,11 +294,15 @@ impl<'a> SpringSlider<'a> {
         let imposed = m.imposed_velocity();
         let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
         let dtau_dx = if imposed { 0.0 } else { -m.stiffness * v / s };
+        // the classic form's ∂f/∂x + ηV (the parameter derivatives' denominator)
+        let den_classic = m.a + m.eta * v;
         let mut psi_rate = 0.0;
         let mut dpsi_rate_dx = 0.0;
+        let mut dpsi_dk = 0.0;
         for (i, st) in m.states.iter().enumerate() {
             let theta = y[1 + i].exp();
-            let j = st.law.jet(&self.args(i, v, theta, tau_rate, s));
+            let args = self.args(i, v, theta, tau_rate, s);
+            let j = st.law.jet(&args);
             let g_theta = j.rate / theta;
             let mut zdot = g_theta;
             if st.alpha != 0.0 && log_rate != 0.0 {
@@ -291,15 +316,43 @@ impl<'a> SpringSlider<'a> {
             jac[at(1 + i, 1 + i)] = dz_dz;
             psi_rate += st.b * zdot;
             dpsi_rate_dx += st.b * dz_dx;
+            if let Some(p) = params.as_mut() {
+                let (fp, den) = (&mut *p.fp, den_classic);
+                let off = state_offset(i);
+                let dz_dk = j.d_stress_rate * (self.v_lp - v) / s / theta;
+                let mut dz_db = j.d_b / theta;
+                let dz_ddc = j.d_dc / theta;
+                if log_rate != 0.0 {
+                    // the coupling −(α/b) ṡ/s
+                    dz_db += st.alpha / (st.b * st.b) * log_rate;
+                    fp[at(1 + i, off + 3)] = -log_rate / st.b;
+                    fp[at(0, off + 3)] = log_rate / den;
+                }
+                fp[at(1 + i, 2)] = dz_dk;
+                fp[at(1 + i, off)] = dz_db;
+                fp[at(1 + i, off + 1)] = dz_ddc;
+                dpsi_dk += st.b * dz_dk;
+                fp[at(0, off)] = -(zdot + st.b * dz_db) / den;
+                fp[at(0, off + 1)] = -st.b * dz_ddc / den;
+                // the law's own parameter: a central difference of its rate (relative step 1e-6)
+                if let Some((name, q)) = p.law_parameters[i] {
+                    let h = 1e-6 * q.abs().max(1e-12);
+                    let rate = |qq: f64| st.law.rate_with_parameter(name, qq, &args);
+                    let dz_dq = (rate(q + h)? - rate(q - h)?) / (2.0 * h) / theta;
+                    fp[at(1 + i, off + 2)] = dz_dq;
+                    fp[at(0, off + 2)] = -st.b * dz_dq / den;
+                }
+            }
         }
         dy[n + 1] = v;
         jac[at(n + 1, 0)] = v;
         if imposed {
             dy[0] = 0.0;
-            return;
+            return Ok(());
         }
         let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
-        let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
+        let mu = if log_rate == 0.0 { 0.0 } else { self.stress(y) };
+        let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * mu };
         let num = r - m.slip_trend * v - fe.f_psi * psi_rate;
         let den = fe.f_x + m.eta * v;
         let xdot = num / den;
@@ -320,6 +373,24 @@ impl<'a> SpringSlider<'a> {
         }
         // column δ: μ carries gδ
         jac[at(0, n + 1)] = -log_rate * m.slip_trend / den;
+        if let Some(p) = params {
+            // the global columns; the classic form's xdot = (R − gV − Ψ̇)/(a + ηV)
+            let fp = p.fp;
+            let xdot = (tau_rate - log_rate * mu - m.slip_trend * v - psi_rate) / den_classic;
+            fp[at(0, 1)] = -xdot / den_classic;
+            fp[at(0, 2)] = ((self.v_lp - v) / s - dpsi_dk) / den_classic;
+            fp[at(0, 3)] = -v / den_classic;
+            if log_rate != 0.0 {
+                // R = k (V_lp − V)/s − (ṡ/s) μ: μ's own parameter dependence
+                let mut gy = vec![0.0; d];
+                let mut gp = vec![0.0; n_params(n)];
+                self.stress_gradients(y, &mut gy, &mut gp)?;
+                for (jp, g) in gp.iter().enumerate() {
+                    fp[at(0, jp)] -= log_rate * g / den_classic;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// `∂f/∂t` at time `t` into `dfdt` (zero unless the normal stress ramps): the right-hand side

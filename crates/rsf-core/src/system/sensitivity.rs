@@ -87,6 +87,22 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
     }
 }
 
+/// A law's own first parameter (name, value), the `q_i` of [`n_params`]'s layout; `None` for
+/// a law without one.
+pub type LawParameter = Option<(&'static str, f64)>;
+
+/// The [`LawParameter`] of each state of `model`, in state order.
+pub fn law_parameters(model: &Model) -> Vec<LawParameter> {
+    model.states.iter().map(|s| s.law.parameters().first().copied()).collect()
+}
+
+/// Where [`SpringSlider::jacobians`] writes `∂f/∂p`, and the laws' own parameters it perturbs.
+pub(crate) struct ParamJacobian<'a> {
+    /// Column-major `(N + 2) × P`.
+    pub(crate) fp: &'a mut [f64],
+    pub(crate) law_parameters: &'a [LawParameter],
+}
+
 impl SpringSlider<'_> {
     fn check_sensitivity_support(&self) -> Result<(), String> {
         if self.model.form != crate::FrictionForm::Classic {
@@ -103,64 +119,30 @@ impl SpringSlider<'_> {
     /// The law's own parameter enters through a central difference of its rate (relative step
     /// 1e-6); everything else is exact.
     pub fn parameter_jacobian(&self, t: f64, y: &[f64], fp: &mut [f64]) -> Result<(), String> {
+        let d = self.dim();
+        let (mut dy, mut jac) = (vec![0.0; d], vec![0.0; d * d]);
+        self.sensitivity_jacobians(t, y, &mut dy, &mut jac, fp, &law_parameters(self.model))
+    }
+
+    /// The right-hand side into `dy`, [`jacobian`](Self::jacobian) into `jac` and
+    /// [`parameter_jacobian`](Self::parameter_jacobian) into `fp`, from one evaluation of each
+    /// law's jet: the right-hand side of a forward-sensitivity solve, dS/dt = J S + ∂f/∂p.
+    /// `law_parameters` is [`law_parameters`] of the model (computed once by the caller).
+    /// Each output equals what its own method gives, to the bit.
+    pub fn sensitivity_jacobians(
+        &self,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        jac: &mut [f64],
+        fp: &mut [f64],
+        law_parameters: &[LawParameter],
+    ) -> Result<(), String> {
         self.check_sensitivity_support()?;
-        let m = self.model;
-        let n = m.states.len();
-        let d = n + 2;
-        fp.iter_mut().for_each(|v| *v = 0.0);
-        let at = |r: usize, c: usize| c * d + r;
-        let v = y[0].exp();
-        let (s, log_rate) = self.sigma(t);
-        let tau_rate = m.stiffness * (self.v_lp - v) / s;
-        let den = m.a + m.eta * v;
-        let mut psi_rate = 0.0;
-        let mut dpsi_dk = 0.0;
-        for (i, st) in m.states.iter().enumerate() {
-            let theta = y[1 + i].exp();
-            let args = self.args(i, v, theta, tau_rate, s);
-            let j = st.law.jet(&args);
-            let mut zdot = j.rate / theta;
-            let off = state_offset(i);
-            let dz_dk = j.d_stress_rate * (self.v_lp - v) / s / theta;
-            let mut dz_db = j.d_b / theta;
-            let dz_ddc = j.d_dc / theta;
-            if log_rate != 0.0 {
-                // the coupling −(α/b) ṡ/s
-                zdot -= st.alpha / st.b * log_rate;
-                dz_db += st.alpha / (st.b * st.b) * log_rate;
-                fp[at(1 + i, off + 3)] = -log_rate / st.b;
-                fp[at(0, off + 3)] = log_rate / den;
-            }
-            psi_rate += st.b * zdot;
-            fp[at(1 + i, 2)] = dz_dk;
-            fp[at(1 + i, off)] = dz_db;
-            fp[at(1 + i, off + 1)] = dz_ddc;
-            dpsi_dk += st.b * dz_dk;
-            fp[at(0, off)] = -(zdot + st.b * dz_db) / den;
-            fp[at(0, off + 1)] = -st.b * dz_ddc / den;
-            if let Some((name, q)) = st.law.parameters().first().copied() {
-                let h = 1e-6 * q.abs().max(1e-12);
-                let rate = |qq: f64| st.law.with_parameter(name, qq).map(|l| l.rate(&args));
-                let dz_dq = (rate(q + h)? - rate(q - h)?) / (2.0 * h) / theta;
-                fp[at(1 + i, off + 2)] = dz_dq;
-                fp[at(0, off + 2)] = -st.b * dz_dq / den;
-            }
+        if law_parameters.len() != self.model.states.len() {
+            return Err(format!("{} law parameters for {} states", law_parameters.len(), self.model.states.len()));
         }
-        let mu = if log_rate != 0.0 { self.stress(y) } else { 0.0 };
-        let xdot = (tau_rate - log_rate * mu - m.slip_trend * v - psi_rate) / den;
-        fp[at(0, 1)] = -xdot / den;
-        fp[at(0, 2)] = ((self.v_lp - v) / s - dpsi_dk) / den;
-        fp[at(0, 3)] = -v / den;
-        if log_rate != 0.0 {
-            // R = k (V_lp − V)/s − (ṡ/s) μ: μ's own parameter dependence
-            let mut gy = vec![0.0; d];
-            let mut gp = vec![0.0; n_params(n)];
-            self.stress_gradients(y, &mut gy, &mut gp)?;
-            for (jp, g) in gp.iter().enumerate() {
-                fp[at(0, jp)] -= log_rate * g / den;
-            }
-        }
-        Ok(())
+        self.jacobians(t, y, dy, jac, Some(ParamJacobian { fp, law_parameters }))
     }
 
     /// Gradients of the friction τ/σ = f(V, θ) + ηV + gδ: `∂τ/∂y` (length N + 2) and the
@@ -171,16 +153,19 @@ impl SpringSlider<'_> {
         let n = m.states.len();
         dtau_dy.iter_mut().for_each(|v| *v = 0.0);
         dtau_dp.iter_mut().for_each(|v| *v = 0.0);
-        dtau_dy[0] = m.a + m.eta * y[0].exp();
+        // ln V0 and ln Dc from the system's per-piece constants (a sensitivity solve takes these
+        // gradients at every output row)
+        dtau_dy[0] = if m.eta == 0.0 { m.a } else { m.a + m.eta * y[0].exp() };
         dtau_dp[0] = 1.0;
-        dtau_dp[1] = y[0] - m.v0.ln();
+        dtau_dp[1] = y[0] - self.ln_v0;
         dtau_dy[n + 1] = m.slip_trend;
         dtau_dp[3] = y[n + 1];
-        let lv0 = m.v0.ln();
         for (i, s) in m.states.iter().enumerate() {
             dtau_dy[1 + i] = s.b;
             let off = state_offset(i);
-            dtau_dp[off] = lv0 + y[1 + i] - (s.law.theta_scale() * s.dc).ln();
+            let scale = s.law.theta_scale();
+            let ln_sdc = if scale == 1.0 && i < super::DC_CACHED { self.ln_dc[i] } else { (scale * s.dc).ln() };
+            dtau_dp[off] = self.ln_v0 + y[1 + i] - ln_sdc;
             dtau_dp[off + 1] = -s.b / s.dc;
         }
         Ok(())

@@ -49,21 +49,31 @@ fn with_sensitivities(
     let steps = s.stats.accepted + s.stats.rejected;
     let mut model_mu = s.mu;
     let mut raw_j = vec![0.0; model_mu.len() * m];
-    for r in 0..model_mu.len() {
+    // ∂p_j/∂θ_k is sparse (each model parameter follows one or two free ones; a segment's
+    // friction offset is one free parameter of its own): its non-zero entries, per j
+    let nonzero = |j: usize| -> Vec<(usize, f64)> {
+        dfull[j * m..(j + 1) * m].iter().copied().enumerate().filter(|&(_, d)| d != 0.0).collect()
+    };
+    let chain: Vec<(usize, Vec<(usize, f64)>)> = (0..np).filter(|&j| wanted[j]).map(|j| (j, nonzero(j))).collect();
+    let offsets: Vec<Vec<(usize, f64)>> = (np..map.slots.len()).map(nonzero).collect();
+    // the chain rule row by row: ∂mu/∂θ_k = Σ_j ∂mu/∂p_j ∂p_j/∂θ_k (+ the segment offset's),
+    // summed over j in layout order for each k
+    for (r, row) in raw_j.chunks_exact_mut(m).enumerate() {
         let seg = seg_of(r);
-        let off_idx = if seg > 0 && map.slots.len() > np { Some(np + seg - 1) } else { None };
+        let off_idx = if seg > 0 && map.slots.len() > np { Some(seg - 1) } else { None };
         if let Some(oi) = off_idx {
-            model_mu[r] += full[oi];
+            model_mu[r] += full[np + oi];
         }
-        for k in 0..m {
-            let mut acc = 0.0;
-            for j in (0..np).filter(|&j| wanted[j]) {
-                acc += s.dmu[r * np + j] * dfull[j * m + k];
+        let dmu = &s.dmu[r * np..(r + 1) * np];
+        for (j, entries) in &chain {
+            for &(k, d) in entries {
+                row[k] += dmu[*j] * d;
             }
-            if let Some(oi) = off_idx {
-                acc += dfull[oi * m + k];
+        }
+        if let Some(oi) = off_idx {
+            for &(k, d) in &offsets[oi] {
+                row[k] += d;
             }
-            raw_j[r * m + k] = acc;
         }
     }
     Ok(Evaluated { model_mu, raw_j, steps })
