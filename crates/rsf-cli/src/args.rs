@@ -401,6 +401,9 @@ pub(crate) struct FitArgs {
     /// MCMC chains (run in parallel).
     #[arg(long, default_value_t = 4)]
     pub(crate) chains: usize,
+    /// Threads for the starts after the first (0: all cores; the result does not depend on it).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) threads: usize,
     /// Random seed (MCMC).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,

@@ -105,7 +105,8 @@ pub fn run(a: &FitArgs) -> Result<()> {
         prep.segments.len(),
         opts.laws.iter().map(|l| l.name()).collect::<Vec<_>>()
     );
-    let res = fit(&prep, &opts)?;
+    // the starts side by side; the per-event refits below run as parallel jobs of one thread each
+    let res = fit(&prep, &FitOptions { threads: a.threads, ..opts.clone() })?;
     if opts.loading == LoadingMode::Record {
         // load-point noise drives a record-driven model: k σ_lp of friction noise
         let (mut ss, mut n) = (0.0, 0usize);

@@ -35,8 +35,12 @@ fn baseline(
     rec: &Record,
     segs: &[Segment],
     o: &FitOptions,
+    threads: usize,
 ) -> Result<(FitOptions, Prepared, FitResult, Option<super::Reconstruction>), FitError> {
     let p = prepare(rec, segs, o)?;
+    // nothing else runs yet: the starts side by side (the returned options keep one thread,
+    // for the fits that run as parallel jobs later)
+    let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
     let base = fit(&p, o)?;
     if o.loading == LoadingMode::Protocol {
         if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
@@ -119,7 +123,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             eprintln!("diagnose: {what} done at {:.2} s", clock.elapsed().as_secs_f64());
         }
     };
-    let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o)?;
+    let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o, opts.threads)?;
     lap("baseline and reconstruction check");
     let mask = timing_mask(&p, &base);
     // the load-point noise the null replicates re-segment with, masked or not
@@ -145,7 +149,14 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the baseline's held-out fit first: every extension's held-out fit starts from it
     let ho_base = if opts.heldout {
         let oh = FitOptions { mu0_per_segment: false, ..base_opts.clone() };
-        heldout(&p.record, &p.segments, &oh, &|pt: &Prepared, ot: &FitOptions| fit(pt, ot).ok(), t_split)
+        let threads = opts.threads;
+        heldout(
+            &p.record,
+            &p.segments,
+            &oh,
+            &|pt: &Prepared, ot: &FitOptions| fit(pt, &FitOptions { threads, ..ot.clone() }).ok(),
+            t_split,
+        )
     } else {
         None
     };

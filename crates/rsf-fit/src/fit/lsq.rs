@@ -41,40 +41,66 @@ struct Searched {
     starts: usize,
 }
 
-/// Levenberg–Marquardt from several starting points on the points of `p`.
+/// One start's Levenberg–Marquardt run under its allowance of integrator steps.
+struct StartRun {
+    result: Result<lm::LmResult, SolveError>,
+    /// Integrator steps it took.
+    steps: u64,
+    /// The budget that stopped it, if one did.
+    hit: Option<BudgetHit>,
+    /// The steps it was allowed.
+    allowance: u64,
+}
+
+impl StartRun {
+    /// What is left in a slot whose run has been taken.
+    fn placeholder() -> Self {
+        Self { result: Err(SolveError::Input("taken".into())), steps: 0, hit: None, allowance: 0 }
+    }
+}
+
+/// Levenberg–Marquardt from several starting points on the points of `p`. The later starts
+/// run side by side on `opts.threads` threads; each result is still the one its start gives
+/// under the allowance the starts before it leave, so the fit does not depend on the threads.
 fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let map = parameter_map(p, opts)?;
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
-    // work counted in integrator steps: `used` over the whole fit, `cap` for the current start
+    // work counted in integrator steps: `used` before the starts (a nested one-state fit)
     let used = Cell::new(0u64);
-    let cap = Cell::new(opts.budget.steps);
-    let hit = Cell::new(None::<BudgetHit>);
     let clock = std::time::Instant::now();
-    let objective = |theta: &[f64], accuracy: lm::Accuracy| -> Result<Eval, SolveError> {
-        if opts.cancelled() {
-            return Err(SolveError::Input("cancelled".into()));
-        }
-        if used.get() >= cap.get() {
-            hit.set(Some(BudgetHit::StepBudget));
-            return Err(SolveError::Input("the fit's step budget is exhausted".into()));
-        }
-        if opts.budget.wall_clock_guard.is_some_and(|g| clock.elapsed().as_secs_f64() > g) {
-            hit.set(Some(BudgetHit::WallClockGuard));
-            return Err(SolveError::Input("the fit's wall-clock guard was hit".into()));
-        }
-        let rtol = match accuracy {
-            lm::Accuracy::Fine => opts.rtol,
-            lm::Accuracy::Coarse => opts.search.coarse_rtol.unwrap_or(opts.rtol),
+    // one start under its own allowance of integrator steps: its result, the steps it took and
+    // the budget that stopped it, if one did (a pure function of the start and the allowance)
+    let run_start = |start: &[f64], allowance: u64, convergence: &lm::Convergence| -> StartRun {
+        let used = Cell::new(0u64);
+        let hit = Cell::new(None::<BudgetHit>);
+        let objective = |theta: &[f64], accuracy: lm::Accuracy| -> Result<Eval, SolveError> {
+            if opts.cancelled() {
+                return Err(SolveError::Input("cancelled".into()));
+            }
+            if used.get() >= allowance {
+                hit.set(Some(BudgetHit::StepBudget));
+                return Err(SolveError::Input("the fit's step budget is exhausted".into()));
+            }
+            if opts.budget.wall_clock_guard.is_some_and(|g| clock.elapsed().as_secs_f64() > g) {
+                hit.set(Some(BudgetHit::WallClockGuard));
+                return Err(SolveError::Input("the fit's wall-clock guard was hit".into()));
+            }
+            let rtol = match accuracy {
+                lm::Accuracy::Fine => opts.rtol,
+                lm::Accuracy::Coarse => opts.search.coarse_rtol.unwrap_or(opts.rtol),
+            };
+            let e = evaluate(p, &map, opts, theta, rtol)?;
+            used.set(used.get() + e.steps);
+            let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
+            let mut j = e.raw_j;
+            for (row, w) in j.chunks_mut(m).zip(&p.weights) {
+                row.iter_mut().for_each(|x| *x *= w);
+            }
+            Ok(Eval { r, j })
         };
-        let e = evaluate(p, &map, opts, theta, rtol)?;
-        used.set(used.get() + e.steps);
-        let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
-        let mut j = e.raw_j;
-        for (row, w) in j.chunks_mut(m).zip(&p.weights) {
-            row.iter_mut().for_each(|x| *x *= w);
-        }
-        Ok(Eval { r, j })
+        let result = lm::minimize_with(start, &objective, convergence);
+        StartRun { result, steps: used.get(), hit: hit.get(), allowance }
     };
     // starting points: the data-derived guess, then Dc and a scaled
     let theta0 = map.theta_of(&map.base);
@@ -150,26 +176,46 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
         ssr_offset: (0..p.used.len()).map(|r| p.weights[r].powi(2) / p.count(r) * p.within(r)).sum(),
     };
     let convergence = opts.search.convergence(opts.max_iter, scale);
+    let budget = opts.budget.steps;
     let mut best: Option<lm::LmResult> = None;
     // the budget that stopped the best start, if one did: not converged, and said so
     let mut best_hit = None;
     let mut first_err = None;
-    let mut first_steps: Option<u64> = None;
-    for s in &starts {
-        let before = used.get();
-        if before >= opts.budget.steps {
+    let mut before = used.get();
+    // the starts in order, each under the allowance the ones before it leave: the first may use
+    // the whole budget, each later one at most `per_start_factor` times the first's work
+    let mut later: Option<(u64, Vec<StartRun>)> = None;
+    for (i, s) in starts.iter().enumerate() {
+        if before >= budget {
             break;
         }
-        // later starts get a multiple of the first start's work
-        let share = first_steps.map_or(u64::MAX, |f| (opts.budget.per_start_factor * f.max(1) as f64) as u64);
-        cap.set(opts.budget.steps.min(before.saturating_add(share)));
-        hit.set(None);
-        let res = lm::minimize_with(s, &objective, &convergence);
-        first_steps.get_or_insert(used.get() - before);
-        match res {
+        let share = later.as_ref().map_or(u64::MAX, |(share, _)| *share);
+        let allowance = (budget - before).min(share);
+        let run = match later.as_mut().and_then(|(_, runs)| runs.get_mut(i - 1)) {
+            // run beside the others at the largest allowance any later start can have: the
+            // same run as under its own allowance when that is the same, or when it finished
+            // below its own without a budget stopping it
+            Some(r) if r.allowance == allowance || (r.hit.is_none() && r.steps < allowance) => {
+                std::mem::replace(r, StartRun::placeholder())
+            }
+            _ => run_start(s, allowance, &convergence),
+        };
+        before += run.steps;
+        if i == 0 {
+            // the later starts' share, and (with threads) their runs side by side
+            let share = (opts.budget.per_start_factor * run.steps.max(1) as f64) as u64;
+            let widest = budget.saturating_sub(before).min(share);
+            let runs = if opts.threads != 1 && starts.len() > 2 && widest > 0 && run.hit.is_none() {
+                crate::diagnose::par_map(&starts[1..], opts.threads, |s| run_start(s, widest, &convergence))
+            } else {
+                vec![]
+            };
+            later = Some((share, runs));
+        }
+        match run.result {
             Ok(r) => {
                 if best.as_ref().is_none_or(|b| r.ssr < b.ssr) {
-                    best_hit = hit.get();
+                    best_hit = run.hit;
                     best = Some(r);
                 }
             }
@@ -177,7 +223,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 first_err.get_or_insert(e);
             }
         }
-        if hit.get() == Some(BudgetHit::WallClockGuard) {
+        if run.hit == Some(BudgetHit::WallClockGuard) {
             break;
         }
     }
@@ -187,7 +233,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 .unwrap_or_else(|| SolveError::Input("the step budget ran out before the first evaluation".into())),
         ));
     };
-    Ok(Searched { map, best, best_hit, steps: used.get(), starts: starts.len() })
+    Ok(Searched { map, best, best_hit, steps: before, starts: starts.len() })
 }
 
 /// The fit's result at the optimum `s`, evaluated on the points of `p`: curve, residuals,

@@ -116,6 +116,10 @@ pub struct FitOptions {
     pub bins: super::BinMeans,
     /// How precisely the search runs: default LM's own tests with every solve at `rtol`.
     pub search: SearchPrecision,
+    /// Threads on which the starts after the first run side by side (1: one after another on
+    /// the caller's thread; 0: all cores). The result does not depend on it: each start's run
+    /// is the one it has under the step allowance the starts before it leave.
+    pub threads: usize,
 }
 
 /// How precisely a fit's search runs. A diagnosis's many fits need each log-likelihood to a
@@ -233,6 +237,7 @@ impl FitOptions {
             cancel: None,
             bins: super::BinMeans::Replace { above: super::BIN_ABOVE, fraction: super::BIN_FRACTION },
             search: SearchPrecision::default(),
+            threads: 1,
         }
     }
 }
