@@ -3,7 +3,8 @@
 //!
 //! The state y = (ln V, ln θ_i, δ) is augmented with S = ∂y/∂p (p in the layout of
 //! [`rsf_core::n_params`]): dS/dt = J S + ∂f/∂p, S(0) = ∂y0/∂p. J and ∂f/∂p are exact
-//! (`SpringSlider::jacobian`, `SpringSlider::parameter_jacobian`), so the derivatives are those of
+//! (`SpringSlider::sensitivity_jacobians`: both from one jet per law at every stage), so the
+//! derivatives are those of
 //! the model, not finite differences of a tolerance-limited solution. The augmented system is
 //! integrated with the automatic stiffness switching of the forward solver's default method,
 //! as [`AutoDopri5`] (Dopri5 while non-stiff: fits sample the model at every data point, where

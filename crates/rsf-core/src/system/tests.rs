@@ -184,8 +184,9 @@ fn parameter_jacobian_matches_central_differences() {
         sys.parameter_jacobian(t, &y, &mut fp).unwrap();
         let (mut gy, mut gp) = (vec![0.0; d], vec![0.0; np]);
         sys.stress_gradients(&y, &mut gy, &mut gp).unwrap();
-        // the one-pass form a sensitivity solve calls gives the separate methods' values bit
-        // for bit
+        // the one-pass form a sensitivity solve calls: its right-hand side and J are `jacobian`'s
+        // bit for bit (the parameter derivatives leave them alone), its ∂f/∂p
+        // `parameter_jacobian`'s, and the right-hand side agrees with `rhs`
         let (mut dy, mut jac, mut dy1, mut jac1, mut fp1) =
             (vec![0.0; d], vec![0.0; d * d], vec![0.0; d], vec![0.0; d * d], vec![1.0; d * np]);
         sys.jacobian(t, &y, &mut dy, &mut jac);

@@ -98,7 +98,8 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         BinMeans::Replace { above, fraction } => BinMeans::Search { above, fraction },
         b @ (BinMeans::Off | BinMeans::Search { .. }) => b,
     };
-    let o = FitOptions { weighting: Weighting::Uniform, bins, ..opts.fit.clone() };
+    // one thread per fit: the fits run as parallel jobs (the baseline's starts get `opts.threads`)
+    let o = FitOptions { weighting: Weighting::Uniform, bins, threads: 1, ..opts.fit.clone() };
     if o.laws.len() != 1 {
         return Err(FitError::Setup("the baseline has one state variable".into()));
     }

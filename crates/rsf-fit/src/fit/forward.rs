@@ -58,7 +58,8 @@ fn with_sensitivities(
     let offsets: Vec<Vec<(usize, f64)>> = (np..map.slots.len()).map(nonzero).collect();
     // the chain rule row by row: ∂mu/∂θ_k = Σ_j ∂mu/∂p_j ∂p_j/∂θ_k (+ the segment offset's),
     // summed over j in layout order for each k
-    for (r, row) in raw_j.chunks_exact_mut(m).enumerate() {
+    for r in 0..model_mu.len() {
+        let row = &mut raw_j[r * m..(r + 1) * m];
         let seg = seg_of(r);
         let off_idx = if seg > 0 && map.slots.len() > np { Some(seg - 1) } else { None };
         if let Some(oi) = off_idx {

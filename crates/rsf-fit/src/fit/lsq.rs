@@ -205,8 +205,12 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
             // the later starts' share, and (with threads) their runs side by side
             let share = (opts.budget.per_start_factor * run.steps.max(1) as f64) as u64;
             let widest = budget.saturating_sub(before).min(share);
-            let runs = if opts.threads != 1 && starts.len() > 2 && widest > 0 && run.hit.is_none() {
-                crate::diagnose::par_map(&starts[1..], opts.threads, |s| run_start(s, widest, &convergence))
+            let threads = match opts.threads {
+                0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+                t => t,
+            };
+            let runs = if threads > 1 && starts.len() > 2 && widest > 0 && run.hit.is_none() {
+                crate::diagnose::par_map(&starts[1..], threads, |s| run_start(s, widest, &convergence))
             } else {
                 vec![]
             };

@@ -118,7 +118,10 @@ pub struct FitOptions {
     pub search: SearchPrecision,
     /// Threads on which the starts after the first run side by side (1: one after another on
     /// the caller's thread; 0: all cores). The result does not depend on it: each start's run
-    /// is the one it has under the step allowance the starts before it leave.
+    /// is the one it has under the step allowance the starts before it leave. (Under a budget
+    /// that stops the later starts, a run made beside the others at a wider allowance is made
+    /// again at its own: the work done can then exceed the budget's steps, the work counted
+    /// cannot.)
     pub threads: usize,
 }
 
