@@ -117,7 +117,7 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
 #[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
     fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
-    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false))]
+    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -145,6 +145,7 @@ pub fn fit_json(
     mu0_per_segment: bool,
     weights: &str,
     per_segment: bool,
+    threads: usize,
 ) -> PyResult<FitOut> {
     let rec = record(time, load_point, mu, normal_stress)?;
     let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
@@ -184,7 +185,8 @@ pub fn fit_json(
     let out = interruptible(py, &cancel, || -> Result<_, String> {
         let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
         let prep = prepare(&rec, &segs, &opts).map_err(|e| e.to_string())?;
-        let res = run_fit(&prep, &opts).map_err(|e| e.to_string())?;
+        // the starts side by side; the per-event refits run as parallel jobs of one thread each
+        let res = run_fit(&prep, &FitOptions { threads, ..opts.clone() }).map_err(|e| e.to_string())?;
         let mc = match mcmc {
             None => None,
             Some(n) => {

@@ -113,6 +113,9 @@ def test_fit_equals_the_cli():
     assert py["rms"] == pytest.approx(ref["rms"], rel=1e-9)
     # the README's main job reports k = 0.00709 /µm for this record
     assert abs(py["params"]["k"] - 0.00709) < 5e-5
+    # the starts side by side (all cores above) or one after another: the same fit, exactly
+    one = rsf.fit(rec, law="slip", stiffness=0.0151, fit_stiffness=True, threads=1)
+    assert one["params"] == py["params"] and one["rms"] == py["rms"] and one["steps"] == py["steps"]
 
 
 def test_diagnose_equals_the_cli():

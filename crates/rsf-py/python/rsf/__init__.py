@@ -380,7 +380,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
         fix: Sequence[str] = (), initial: Optional[Mapping[str, float]] = None, rtol: float = 1e-7,
         starts: int = 4, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
         window_um: Optional[float] = None, mu0_per_segment: bool = False, weights: str = "equal",
-        per_segment: bool = False, time=None, load_point=None, mu=None, normal_stress=None) -> FitResult:
+        per_segment: bool = False, threads: int = 0, time=None, load_point=None, mu=None,
+        normal_stress=None) -> FitResult:
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
@@ -389,7 +390,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
     ``initial`` (name → value), ``window_um``, ``mu0_per_segment``, ``weights`` (``"equal"`` or
     ``"uniform"``), ``per_segment`` (refit each step and hold alone: ``per_segment`` in the
     result), ``mcmc`` (total samples; ``chains``, ``seed``), ``progress`` (MCMC progress bar on
-    stderr).
+    stderr), ``threads`` (for the starts after the first; 0: all cores; the result does not
+    depend on it).
 
     Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
     ``k``, ``g``, ``alpha``…), ``ci95``, ``stderr``, ``rms``, ``aic``, ``bic``, ``segments``,
@@ -401,7 +403,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
         normal_stress_mode=normal_stress_mode, fit_alpha=fit_alpha, laws=None if laws is None else list(laws),
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
-        mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment)
+        mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads)
     return FitResult(json.loads(raw), samples, names, curve)
 
 

@@ -134,6 +134,7 @@ def fit(
     mu0_per_segment: bool = ...,
     weights: str = ...,
     per_segment: bool = ...,
+    threads: int = ...,
     time: Optional[npt.ArrayLike] = ...,
     load_point: Optional[npt.ArrayLike] = ...,
     mu: Optional[npt.ArrayLike] = ...,
