@@ -47,8 +47,9 @@ struct SensOde<'a, const D: usize, const P: usize, const PF: usize, const DA: us
     law_parameters: [LawParameter; D],
 }
 
-impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem<DA> for SensOde<'_, D, P, PF, DA> {
-    fn rhs(&self, t: f64, ya: &SVector<f64, DA>) -> SVector<f64, DA> {
+impl<const D: usize, const P: usize, const PF: usize, const DA: usize> SensOde<'_, D, P, PF, DA> {
+    /// The augmented right-hand side, and the J of the y block it was made with.
+    fn rhs_with_j(&self, t: f64, ya: &SVector<f64, DA>) -> (SVector<f64, DA>, SMatrix<f64, D, D>) {
         let mut out = SVector::<f64, DA>::zeros();
         let mut dy = [0.0; D];
         let mut j = SMatrix::<f64, D, D>::zeros();
@@ -57,14 +58,20 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
         let lp = &self.law_parameters[..D - 2];
         if self.sys.sensitivity_jacobians(t, y, &mut dy, j.as_mut_slice(), fp_full.as_mut_slice(), lp).is_err() {
             out.fill(f64::NAN); // checked before integration; NaN rejects the step if it ever happens
-            return out;
+            return (out, j);
         }
         let fp = SMatrix::<f64, D, P>::from_fn(|r, c| fp_full[(r, self.cols[c])]);
         out.as_mut_slice()[..D].copy_from_slice(&dy);
         let s = SMatrix::<f64, D, P>::from_column_slice(&ya.as_slice()[D..]);
         let ds = j * s + fp;
         out.as_mut_slice()[D..].copy_from_slice(ds.as_slice());
-        out
+        (out, j)
+    }
+}
+
+impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem<DA> for SensOde<'_, D, P, PF, DA> {
+    fn rhs(&self, t: f64, ya: &SVector<f64, DA>) -> SVector<f64, DA> {
+        self.rhs_with_j(t, ya).0
     }
     /// The augmented Jacobian for the implicit stretches of [`AutoDopri5`]: block lower triangular,
     /// J in the y block and in every S block on the diagonal, and the coupling
@@ -73,11 +80,8 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
     /// ~1e-12, round-off ~1e-10 relative; a Rosenbrock step tolerates such Jacobian errors,
     /// which enter its local error multiplied by h).
     fn rhs_and_jacobian(&self, t: f64, ya: &SVector<f64, DA>) -> (SVector<f64, DA>, SMatrix<f64, DA, DA>) {
-        let f = self.rhs(t, ya);
+        let (f, j) = self.rhs_with_j(t, ya);
         let mut ja = SMatrix::<f64, DA, DA>::zeros();
-        let mut dy = [0.0; D];
-        let mut j = SMatrix::<f64, D, D>::zeros();
-        self.sys.jacobian(t, &ya.as_slice()[..D], &mut dy, j.as_mut_slice());
         for blk in 0..=P {
             ja.fixed_view_mut::<D, D>(blk * D, blk * D).copy_from(&j);
         }

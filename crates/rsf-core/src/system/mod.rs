@@ -374,9 +374,8 @@ impl<'a> SpringSlider<'a> {
         // column δ: μ carries gδ
         jac[at(0, n + 1)] = -log_rate * m.slip_trend / den;
         if let Some(p) = params {
-            // the global columns; the classic form's xdot = (R − gV − Ψ̇)/(a + ηV)
+            // the global columns (the classic form: xdot = (R − gV − Ψ̇)/(a + ηV) as above)
             let fp = p.fp;
-            let xdot = (tau_rate - log_rate * mu - m.slip_trend * v - psi_rate) / den_classic;
             fp[at(0, 1)] = -xdot / den_classic;
             fp[at(0, 2)] = ((self.v_lp - v) / s - dpsi_dk) / den_classic;
             fp[at(0, 3)] = -v / den_classic;
