@@ -21,13 +21,14 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
+from scipy.integrate import solve_ivp
 
 HERE = Path(__file__).resolve().parent
 _spec = importlib.util.spec_from_file_location("generate", HERE.parent / "detection" / "generate.py")
 gen = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(gen)
 
-FAMILIES = ["evolution_law", "cutoff_velocity", "second_state_variable"]
+FAMILIES = ["evolution_law", "cutoff_velocity", "second_state_variable", "normal_stress_coupling"]
 DECISIVE = 10.0            # |ΔBIC| that decides between two models
 LONG_HOLD = 1e4            # rsf design's longest hold (its default --max-hold), s
 HOLD_DT = 1.0              # holds are sampled at 1 Hz (old and new)
@@ -38,6 +39,9 @@ K_FLOOR = 3e-4             # softest machine, 1/um
 gen.RTOL, gen.ATOL_LOG, gen.ATOL_SLIP = 1e-8, 1e-10, 1e-8
 STANDARD_FALLBACK_S = 600.0
 HEADER = "time_s,load_point_um,mu"
+SIGMA_MPA = 10.0           # the records' normal stress, MPa (written only once a proposal changes it)
+SIGMA_COL = "normal_stress_mpa"
+SIGMA_VMAX_FACTOR = 1e4    # run-away threshold of simulate_sigma, times the fastest load point
 
 
 def log_uniform(rng, lo, hi):
@@ -63,9 +67,10 @@ def breaks(segs, t_start=0.0):
 
 
 STEP_DECADES = {"evolution_law": [0.15, 0.2, 0.3, 0.5], "cutoff_velocity": [0.5, 1.0],
-                "second_state_variable": [0.15, 0.2, 0.3, 0.5]}
+                "second_state_variable": [0.15, 0.2, 0.3, 0.5], "normal_stress_coupling": [0.5, 1.0]}
 MIN_STEP_S = 20.0          # shorter steps may be missed by rsf's segment detection
-STEP_DC = {"evolution_law": (2, 5), "cutoff_velocity": (3, 6), "second_state_variable": (1.5, 4)}
+STEP_DC = {"evolution_law": (2, 5), "cutoff_velocity": (3, 6), "second_state_variable": (1.5, 4),
+           "normal_stress_coupling": (3, 6)}
 
 
 def draw_protocol(rng, family, dc, vb):
@@ -109,6 +114,9 @@ def draw_truth(rng, family):
         r, dc2 = log_uniform(rng, 0.2, 1.0), dc * log_uniform(rng, 5, 30)
         p.update(b=[b / (1 + r), b * r / (1 + r)], dc=[dc, dc2], laws=["slip", "slip"])
         effect = {"b2": p["b"][1], "dc2": dc2}
+    elif family == "normal_stress_coupling":  # Linker-Dieterich alpha; the record never changes sigma
+        p["alpha"] = [rng.uniform(0.1, 0.5)]
+        effect = {"alpha": p["alpha"][0]}
     else:                                    # Kato-Tullis; vc is chosen once the protocol is known
         p["laws"], effect = ["kato-tullis"], {}
     kc = max(0.0, sum(p["b"]) - a) / min(p["dc"])    # >= (b_i - a)/Dc_i of every state
@@ -241,22 +249,103 @@ def table_text(ts, lp, mu, header=False):
     return buf.getvalue() if header else buf.getvalue().lstrip("\n")
 
 
-def append(case, new_segs, dt_slide, dt_hold, noise_seed):
+def ramp_rhs(p, vlp, s0, rate, t0):
+    """Right-hand side of y = (x = ln V, s_i = ln theta_i, delta) while the normal stress ramps,
+    S(t) = s0 + rate (t - t0) in units of the record's (from the equations, not rsf's code):
+    tau = S mu and dtau/dt = k (vlp - V) give dmu/dt = (k (vlp - V) - mu dS/dt) / S; each state
+    gets -alpha_i/b_i dS/dt / S (Linker & Dieterich 1992); a dx/dt = dmu/dt - sum b_i ds_i/dt - g V."""
+    f0, _ = gen.rhs_and_jac(dict(p, k=0.0, g=0.0), vlp)      # its state rates G_i at this (x, s)
+    alpha = p.get("alpha") or [0.0] * len(p["b"])
+    n, v0 = len(p["b"]), p["v0"]
+
+    def f(t, y):
+        S, dy = s0 + rate * (t - t0), f0(t, y)
+        v, r = math.exp(y[0]), rate / (s0 + rate * (t - t0))
+        mu = gen.friction(p, y[None, :], v0)[0]
+        sb = 0.0
+        for i in range(n):
+            dy[1 + i] -= alpha[i] / p["b"][i] * r
+            sb += p["b"][i] * dy[1 + i]
+        dy[0] = ((p["k"] * (vlp - v) - mu * rate) / S - sb - p["g"] * v) / p["a"]
+        return dy
+    return f
+
+
+def simulate_sigma(p, segs, ts):
+    """As generate.simulate through segments (v, duration, S_end): S is the normal stress over the
+    record's at each segment's end, ramped linearly through a segment that changes it. At constant
+    S the spring-slider is generate.py's own with stiffness k/S (tau = S mu), analytic Jacobian;
+    through a ramp, ramp_rhs with a finite-difference Jacobian."""
+    v_first, n = segs[0][0], len(p["b"])
+    y = np.array([math.log(v_first)] + [gen.steady_ln_theta(l, v_first, dc, p.get("vc"))
+                                        for l, dc in zip(p["laws"], p["dc"])] + [0.0])
+    seg_t = breaks([(v, d) for v, d, _ in segs])
+    atol = np.r_[np.full(n + 1, gen.ATOL_LOG), gen.ATOL_SLIP]
+    # a drop of sigma forces fast slip (tau must follow), not an instability: stick-slip is a
+    # run-away, caught far above generate.py's 10x the fastest load point
+    xmax = math.log(SIGMA_VMAX_FACTOR * max(v for v, _, _ in segs))
+    blowup = lambda t, y: y[0] - xmax
+    blowup.terminal = True
+    Y, level = np.empty((len(ts), n + 2)), 1.0
+    for j, (vlp, _, s_end) in enumerate(segs):
+        t0, t1 = seg_t[j], seg_t[j + 1]
+        lo = np.searchsorted(ts, t0, "left")
+        hi = len(ts) if j == len(segs) - 1 else np.searchsorted(ts, t1, "left")
+        te = np.r_[ts[lo:hi], t1] if hi == lo or ts[hi - 1] < t1 else ts[lo:hi]
+        if s_end == level:
+            f, jac = gen.rhs_and_jac(dict(p, k=p["k"] / level), vlp)
+        else:
+            f, jac = ramp_rhs(p, vlp, level, (s_end - level) / (t1 - t0), t0), None
+        sol = solve_ivp(f, (t0, t1), y, method="Radau", jac=jac, rtol=gen.RTOL, atol=atol, t_eval=te,
+                        events=blowup)
+        if sol.status != 0:
+            raise gen.Unstable(f"segment {j} at t={t0:.4g}: {sol.message}")
+        Y[lo:hi] = sol.y.T[: hi - lo]
+        y, level = sol.y[:, -1], s_end
+    return Y
+
+
+def sigma_at(segs, ts):
+    """S (normal stress over the record's) at times ts: piecewise linear through the segments."""
+    t_b = breaks([(v, d) for v, d, _ in segs])
+    return np.interp(ts, t_b, np.r_[1.0, [s for _, _, s in segs]])
+
+
+def append(case, new_segs, dt_slide, dt_hold, noise_seed, sigma=None):
     """The same truth through the old protocol + new segments in one run; the old rows are the
-    record's text unchanged, new rows at the given intervals with the noise continued."""
+    record's text unchanged, new rows at the given intervals with the noise continued. `sigma`:
+    the normal stress over the record's at each new segment's end (rsf design's
+    normal_stress_ratio); when it changes, the record gets a fourth column, SIGMA_COL (MPa)."""
     segs = case["segs"] + [(float(v), float(d)) for v, d in new_segs]
     seg_t, seg_v = breaks(segs), [v for v, _ in segs]
     t_new = sample_times(case["ts"][-1], new_segs, dt_slide, dt_hold)
     ts = np.r_[case["ts"], t_new]
-    Y, _ = gen.simulate(case["p"], seg_t, seg_v, ts)
+    changes = sigma is not None and any(s != 1.0 for s in sigma)
+    if changes:
+        levels = [1.0] * len(case["segs"]) + [float(s) for s in sigma]
+        full = [(v, d, s) for (v, d), s in zip(segs, levels)]
+        Y = simulate_sigma(case["p"], full, ts)
+    else:
+        Y, _ = gen.simulate(case["p"], seg_t, seg_v, ts)
     mu = gen.friction(case["p"], Y, case["p"]["v0"])
     n_old = len(case["ts"])
     old_dev = float(np.abs(mu[:n_old] - case["mu_clean"]).max())
     new = mu[n_old:] + continue_noise(case, t_new, np.random.default_rng(noise_seed))
-    text = case["text"] + table_text(t_new, gen.load_point(seg_t, seg_v, t_new), new)
+    if changes:
+        s_all = SIGMA_MPA * sigma_at(full, ts)
+        rows = np.column_stack([ts, gen.load_point(seg_t, seg_v, ts), np.r_[np.full(n_old, np.nan), new], s_all])
+        head, old_lines = case["text"].split("\n", 1)
+        text = head + "," + SIGMA_COL + "\n" + "".join(
+            f"{line},{SIGMA_MPA!r}\n" for line in old_lines.splitlines())
+        buf = io.StringIO()
+        np.savetxt(buf, rows[n_old:], fmt="%.17g", delimiter=",")
+        text += buf.getvalue()
+    else:
+        text = case["text"] + table_text(t_new, gen.load_point(seg_t, seg_v, t_new), new)
     v = np.exp(Y[n_old:, 0])
     return text, dict(rows_added=len(t_new), old_clean_max_dev=old_dev, v_min_new=float(v.min()),
-                      v_max_new=float(v.max()), mu_clean_join=[float(mu[n_old - 1]), float(mu[n_old])])
+                      v_max_new=float(v.max()), mu_clean_join=[float(mu[n_old - 1]), float(mu[n_old])],
+                      normal_stress=changes)
 
 
 # ---------------------------------------------------------------- rsf
@@ -364,8 +453,8 @@ def resolve(family, i, opts):
         v_end = float(des.get("v_end") or c["v_end"])
         if props:
             top = props[0]
-            r["proposal"] = {k: top.get(k) for k in ("segments", "machine_time_s", "slip_um", "description",
-                                                     "kind", "score", "lead_pair_dchi2", "samples")}
+            r["proposal"] = {k: top.get(k) for k in ("segments", "normal_stress_ratio", "machine_time_s", "slip_um",
+                                                     "description", "kind", "score", "lead_pair_dchi2", "samples")}
             rsf_std = des.get("standard") or {}
             r["rsf_standard"] = {k: rsf_std.get(k) for k in ("segments", "machine_time_s", "slip_um", "score")}
             half = top["machine_time_s"] / 2          # the issue's standard: the same machine time
@@ -380,8 +469,9 @@ def resolve(family, i, opts):
             if not segs:
                 continue
             res = r[which + "_run"] = {}
+            sigma = r["proposal"].get("normal_stress_ratio") if which == "design" else None
             try:
-                text, info = append(c, segs, dt_slide, dt_hold, [opts["seed"], FAMILIES.index(family), i, 99])
+                text, info = append(c, segs, dt_slide, dt_hold, [opts["seed"], FAMILIES.index(family), i, 99], sigma)
             except gen.Unstable as e:
                 res.update(cause=None, error=f"the truth stick-slips through this segment: {e}")
                 continue
@@ -390,7 +480,8 @@ def resolve(family, i, opts):
             app = out / f"{name}.{tag}.csv"
             app.write_text(text)
             res["segments"] = [count_segments(opts, app), len(c["segs"]) + len(segs)]   # found, true
-            d, err, sec = run_rsf(opts, "diagnose", app, c["p"]["k"], out / f"{name}.{tag}.diag.json")
+            d, err, sec = run_rsf(opts, "diagnose", app, c["p"]["k"], out / f"{name}.{tag}.diag.json",
+                                  ("--normal-col", SIGMA_COL) if info["normal_stress"] else ())
             res["diagnose_s"] = round(sec, 2)
             if err:
                 res.update(cause=None, error=f"diagnose: {err}")
@@ -543,10 +634,14 @@ def self_check(out):
             f"effect={c['effect']} noise={ {k: round(v, 6) for k, v in c['noise']['spec'].items() if k != 'pink_seed'} } "
             f"V=[{c['v_min']:.3g},{c['v_max']:.3g}] tries={c['attempts']} {time.time() - t:.1f}s")
         ok &= again["text"] == c["text"]
-        for label, segs in (("hold+step", [[0.0, 3000.0], [c["v_end"], 60.0], [10 * c["v_end"], 30.0]]),
-                            ("standard", [[c["v_end"] / 10, 300.0], [c["v_end"], 300.0]])):
-            text, info = append(c, segs, c["dt"], HOLD_DT, [1, j, 99])
-            old_same = text.startswith(c["text"])
+        for label, segs, sig in (
+                ("hold+step", [[0.0, 3000.0], [c["v_end"], 60.0], [10 * c["v_end"], 30.0]], None),
+                ("standard", [[c["v_end"] / 10, 300.0], [c["v_end"], 300.0]], None),
+                ("sigma", [[c["v_end"], 1.0], [c["v_end"], 200.0], [c["v_end"], 1.0], [c["v_end"], 200.0]],
+                 [1.2, 1.2, 0.9, 0.9])):
+            text, info = append(c, segs, c["dt"], HOLD_DT, [1, j, 99], sig)
+            old_same = text.startswith(c["text"]) if sig is None else \
+                [line.rsplit(",", 1)[0] for line in text.splitlines()[:c["n_rows"] + 1]] == c["text"].splitlines()
             rows = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1)
             n = c["n_rows"]
             jump, clean_jump = rows[n, 2] - rows[n - 1, 2], info["mu_clean_join"][1] - info["mu_clean_join"][0]
@@ -556,12 +651,38 @@ def self_check(out):
                 f"{info['old_clean_max_dev']:.1e}, join Δμ={jump:.2e} (clean {clean_jump:.2e}, noise sd {sd:.1e}) "
                 f"continuous={cont}, times/load point ok={mono}, V new=[{info['v_min_new']:.3g},{info['v_max_new']:.3g}]")
             ok &= old_same and info["old_clean_max_dev"] == 0.0 and cont and mono
+            if sig is not None and fam == "normal_stress_coupling":
+                ok &= sigma_against_reference(c, segs, sig, rows)
             if out:
                 Path(out).mkdir(parents=True, exist_ok=True)
                 (Path(out) / f"check_{fam}.csv").write_text(c["text"])
                 (Path(out) / f"check_{fam}_{label.replace('+', '_')}.csv").write_text(text)
     log("check: " + ("all passed" if ok else "FAILED"))
     return ok
+
+
+def sigma_against_reference(c, segs, sig, rows):
+    """simulate_sigma against benches/normal_stress/reference.py (its own formulation: tau as the
+    variable, V from the friction law) on the rows of the appended normal-stress changes."""
+    spec = importlib.util.spec_from_file_location("reference", HERE.parent / "normal_stress" / "reference.py")
+    ref = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ref)
+    p = c["p"]
+    states = [dict(law=l, b=b, dc=dc, alpha=al) for l, b, dc, al in zip(p["laws"], p["b"], p["dc"], p["alpha"])]
+    model = ref.Model(p["mu0"], p["v0"], p["a"], p["k"], SIGMA_MPA, states)
+    full, level = [dict(v=v, duration=d) for v, d in c["segs"]], 1.0
+    for (v, d), s in zip(segs, sig):
+        full.append(dict(v=v, duration=d, normal_stress_rate=SIGMA_MPA * (s - level) / d))
+        level = s
+    n = c["n_rows"]
+    ts = rows[n:, 0][:: max(1, (len(rows) - n) // 200)]
+    r = ref.simulate(model, ref.build_pieces({"segment": full}, SIGMA_MPA), ts, c["segs"][0][0], rtol=1e-10, atol=1e-10)
+    Y = simulate_sigma(p, [(v, d, 1.0) for v, d in c["segs"]] + [(v, d, s) for (v, d), s in zip(segs, sig)], ts)
+    dev = float(np.abs(gen.friction(p, Y, p["v0"]) - r[:, 2]).max())
+    sdev = float(np.abs(sigma_at([(v, d, 1.0) for v, d in c["segs"]] + [(v, d, s) for (v, d), s in zip(segs, sig)],
+                                 ts) * SIGMA_MPA - r[:, -1]).max())
+    log(f"   sigma vs reference.py: {len(ts)} rows, friction max |dev| {dev:.1e}, sigma max |dev| {sdev:.1e}")
+    return dev < 1e-6 and sdev < 1e-9
 
 
 def main():

@@ -235,6 +235,11 @@ pub(crate) struct DesignArgs {
     /// Most load-point displacement of a proposal, µm.
     #[arg(long, default_value_t = 1000.0)]
     pub(crate) max_slip: f64,
+    /// Largest normal-stress change the machine can make, as a fraction of the record's σ
+    /// (0.2: ±20 %). When positive and the record's σ is constant, σ changes are proposed and
+    /// the best model with Linker–Dieterich α (from the lab range) is a credible model.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) max_sigma_change: f64,
     /// Models within this ΔBIC of the best are credible (besides those that fit at least as
     /// well as the baseline).
     #[arg(long, default_value_t = rsf_fit::design::CREDIBLE_DBIC)]
@@ -261,8 +266,13 @@ pub(crate) struct DesignArgs {
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
     /// Also write the diagnosis it starts from as JSON here.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "from")]
     pub(crate) diagnosis_json: Option<PathBuf>,
+    /// Design from this diagnosis (`rsf diagnose --json` of the same record, with the same
+    /// column, baseline and loading options) instead of diagnosing again: its models are
+    /// refitted from their reported parameters, one warm start each.
+    #[arg(long, value_name = "DIAGNOSIS_JSON")]
+    pub(crate) from: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]

@@ -2,7 +2,7 @@
 //! the credible causes apart.
 
 use crate::args::DesignArgs;
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use rsf_fit::design::{DesignOptions, protocol_toml};
 use rsf_fit::diagnose::DiagnoseOptions;
 use rsf_fit::segment::{SegmentOptions, detect};
@@ -25,8 +25,11 @@ fn v_range(s: &str) -> Result<(f64, f64)> {
 pub fn run(a: &DesignArgs) -> Result<()> {
     let start = Instant::now();
     let r = &a.d;
-    crate::output::Files::default()
-        .input("record", &r.data)
+    let mut files = crate::output::Files::default().input("record", &r.data);
+    if let Some(f) = &a.from {
+        files = files.input("--from", f);
+    }
+    files
         .output("--json", a.json.as_deref())
         .output("--protocol", a.protocol.as_deref())
         .output("--plot", a.plot.as_deref())
@@ -42,6 +45,9 @@ pub fn run(a: &DesignArgs) -> Result<()> {
     if !(a.max_hold >= 0.0 && a.max_hold.is_finite()) {
         bail!("--max-hold {} must be zero or positive (s)", a.max_hold);
     }
+    if !(a.max_sigma_change >= 0.0 && a.max_sigma_change < 1.0) {
+        bail!("--max-sigma-change {} must be a fraction of the record's normal stress in [0, 1)", a.max_sigma_change);
+    }
     if !(a.credible >= 0.0) {
         bail!("--credible {} must not be negative", a.credible);
     }
@@ -51,6 +57,7 @@ pub fn run(a: &DesignArgs) -> Result<()> {
         max_hold: a.max_hold,
         max_time: a.max_time,
         max_slip: a.max_slip,
+        max_sigma_change: a.max_sigma_change,
         draws: a.draws,
         sequences: !a.no_sequences,
         seed: r.seed,
@@ -59,18 +66,59 @@ pub fn run(a: &DesignArgs) -> Result<()> {
     };
     let rec = r.read.read(&r.data)?;
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    eprintln!("rsf design: {} samples, {} segments; diagnosing first…", rec.len(), segs.len());
-    let (bar, progress) = crate::fit::progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
-    let dopts = DiagnoseOptions { progress: Some(progress), ..dopts };
-    let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts)?;
-    bar.finish_and_clear();
-    let t_diag = start.elapsed().as_secs_f64();
-    eprintln!("rsf design: diagnosis in {t_diag:.1} s (cause: {}); scoring the proposals…", d.cause);
-    let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
-    let design = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { progress: Some(progress), ..o })?;
-    bar.finish_and_clear();
+    let (design, diagnosis, cause_line, t_diag) = match &a.from {
+        Some(from) => {
+            let bytes = std::fs::read(from).with_context(|| format!("reading {}", from.display()))?;
+            let text = String::from_utf8(bytes).map_err(|e| {
+                anyhow::anyhow!(
+                    "{}: not UTF-8 text (byte {}): not a diagnosis JSON",
+                    from.display(),
+                    e.utf8_error().valid_up_to()
+                )
+            })?;
+            let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+                anyhow::anyhow!("{}: line {}, column {}: not JSON: {e}", from.display(), e.line(), e.column())
+            })?;
+            let word = |k: &str| v.get(k).and_then(serde_json::Value::as_str).unwrap_or("?").to_string();
+            let line = format!("cause: {} ({}) [from {}]\n", word("cause"), word("reason"), from.display());
+            eprintln!(
+                "rsf design: {} samples, {} segments; refitting the models of {}…",
+                rec.len(),
+                segs.len(),
+                from.display()
+            );
+            let design = rsf_fit::design::Rebuilt::from_json(&rec, &segs, &text, &dopts)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", from.display()))
+                .and_then(|rb| {
+                    let t = start.elapsed().as_secs_f64();
+                    eprintln!("rsf design: models refitted in {t:.1} s; scoring the proposals…");
+                    let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
+                    let o = DesignOptions { progress: Some(progress), ..o };
+                    let mut d = rsf_fit::design::design_basis(&rec, &segs, &rb.basis(), &o)?;
+                    bar.finish_and_clear();
+                    d.notes.splice(0..0, rb.notes.iter().cloned());
+                    Ok((d, t))
+                })?;
+            (design.0, None, line, design.1)
+        }
+        None => {
+            eprintln!("rsf design: {} samples, {} segments; diagnosing first…", rec.len(), segs.len());
+            let (bar, progress) = crate::fit::progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
+            let dopts = DiagnoseOptions { progress: Some(progress), ..dopts };
+            let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts)?;
+            bar.finish_and_clear();
+            let t_diag = start.elapsed().as_secs_f64();
+            eprintln!("rsf design: diagnosis in {t_diag:.1} s (cause: {}); scoring the proposals…", d.cause);
+            let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
+            let design =
+                rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { progress: Some(progress), ..o })?;
+            bar.finish_and_clear();
+            let line = format!("cause: {} ({})\n", d.cause, d.reason);
+            (design, Some(d), line, t_diag)
+        }
+    };
     let wall = start.elapsed().as_secs_f64();
-    let mut out = format!("cause: {} ({})\n", d.cause, d.reason);
+    let mut out = cause_line;
     out += "credible models:";
     for m in &design.models {
         out += &format!(" {} (ΔBIC {:.1}, {} draws);", m.name, m.delta_bic, m.draws);
@@ -100,14 +148,15 @@ pub fn run(a: &DesignArgs) -> Result<()> {
         }
     }
     crate::write_stdout(&out)?;
-    eprintln!("rsf design: {wall:.1} s ({t_diag:.1} s diagnosis, {:.1} s design)", wall - t_diag);
+    let first = if a.from.is_some() { "refits" } else { "diagnosis" };
+    eprintln!("rsf design: {wall:.1} s ({t_diag:.1} s {first}, {:.1} s design)", wall - t_diag);
     if let Some(j) = &a.json {
         let mut v = serde_json::to_value(&design)?;
         v["data"] = serde_json::json!(r.data.display().to_string());
         crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }
-    if let Some(j) = &a.diagnosis_json {
-        let mut v = serde_json::to_value(&d)?;
+    if let (Some(j), Some(d)) = (&a.diagnosis_json, &diagnosis) {
+        let mut v = serde_json::to_value(d)?;
         v["data"] = serde_json::json!(r.data.display().to_string());
         crate::output::write_bytes(j, serde_json::to_string_pretty(&v)? + "\n")?;
     }

@@ -336,6 +336,7 @@ fn design_refuses_bad_constraints_before_any_work() {
         (vec!["--v-range", "a,b"], "must be numbers"),
         (vec!["--max-time=-1"], "--max-time -1 must be positive"),
         (vec!["--max-hold", "nan"], "--max-hold NaN must be zero or positive"),
+        (vec!["--max-sigma-change", "1.5"], "--max-sigma-change 1.5 must be a fraction"),
     ] {
         let out = design_basalt().args(&args).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
@@ -400,4 +401,64 @@ fn design_proposes_a_long_hold_for_a_hidden_cutoff_and_writes_its_outputs() {
     assert!(sim.status.success(), "{}", String::from_utf8_lossy(&sim.stderr));
     let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
     assert!(rows > 1000, "{rows}");
+}
+
+/// `rsf design --from`: the diagnosis's JSON of the same record is designed from without
+/// diagnosing again (here with normal-stress changes, whose protocol runs in `rsf simulate`);
+/// the JSON of another record, a cut JSON and `--diagnosis-json` beside it are refused.
+#[test]
+fn design_from_a_diagnosis_json() {
+    let hc = repo().join("examples/data/design/hidden_cutoff.csv");
+    let k = ["--stiffness", "0.0026919553456917138", "--threads", "2"];
+    let diag = tmp("hc_from_diag.json");
+    let out = rsf().arg("diagnose").arg(&hc).args(k).arg("--json").arg(&diag).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (json, toml, csv) = (tmp("hc_from.json"), tmp("hc_from.toml"), tmp("hc_from_next.csv"));
+    let out = rsf()
+        .arg("design")
+        .arg(&hc)
+        .args(k)
+        .args(["--max-sigma-change", "0.2", "--from"])
+        .arg(&diag)
+        .arg("--json")
+        .arg(&json)
+        .arg("--protocol")
+        .arg(&toml)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("refitting the models") && !err.contains("diagnosing first"), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("[from "));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["models"].as_array().unwrap().iter().any(|m| m["name"] == "cutoff_velocity"));
+    assert!(v["models"].as_array().unwrap().iter().any(|m| m["name"] == "normal_stress_coupling"));
+    let best = &v["proposals"][0];
+    let ratios: Vec<f64> =
+        best["normal_stress_ratio"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert!(ratios.iter().any(|&r| r != 1.0), "{}", best["description"]);
+    let sim = rsf().arg("simulate").arg(&toml).arg("-o").arg(&csv).output().unwrap();
+    assert!(sim.status.success(), "{}", String::from_utf8_lossy(&sim.stderr));
+    // another record's diagnosis
+    let basalt = tmp("basalt_diag_for_from.json");
+    let out = on_basalt("diagnose").arg("--json").arg(&basalt).output().unwrap();
+    assert!(out.status.success());
+    let out = rsf().arg("design").arg(&hc).args(k).arg("--from").arg(&basalt).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("basalt_diag_for_from.json") && err.contains("not the record"),
+        "{err}"
+    );
+    // a cut file, named with its line and column
+    let cut = tmp("hc_from_cut.json");
+    let text = std::fs::read_to_string(&diag).unwrap();
+    std::fs::write(&cut, &text[..text.len() / 3]).unwrap();
+    let out = rsf().arg("design").arg(&hc).args(k).arg("--from").arg(&cut).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("line ") && err.contains("column "), "{err}");
+    // --diagnosis-json writes the diagnosis the design runs: with --from there is none
+    let mut both = rsf();
+    both.arg("design").arg(&hc).args(k).arg("--from").arg(&diag).arg("--diagnosis-json").arg(tmp("x.json"));
+    let out = both.output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("cannot be used with"));
 }

@@ -350,11 +350,15 @@ impl Loading {
 
 /// Splits constant-σ `pieces` at the vertices of the history `h` and gives each piece σ and its
 /// rate from `h`. Consecutive pieces continue each other's σ exactly (no spurious steps).
+/// Relative time (of the loading's span) within which a normal-stress sample and a piece
+/// boundary coincide.
+const SLIVER: f64 = 1e-9;
+
 fn split_by_history(pieces: &[Piece], h: &NormalStressRecord) -> Result<Vec<Piece>, String> {
     h.validate()?;
     let (t_start, t_end) = (pieces[0].t0, pieces[pieces.len() - 1].t1);
     let span = (t_end - t_start).abs().max(1.0);
-    if h.time[0] > t_start + 1e-9 * span || h.time[h.time.len() - 1] < t_end - 1e-9 * span {
+    if h.time[0] > t_start + SLIVER * span || h.time[h.time.len() - 1] < t_end - SLIVER * span {
         return Err(format!(
             "the normal-stress record spans [{}, {}] s but the loading [{t_start}, {t_end}] s",
             h.time[0],
@@ -368,13 +372,20 @@ fn split_by_history(pieces: &[Piece], h: &NormalStressRecord) -> Result<Vec<Piec
         let j = interval(t);
         h.sigma[j] + slope(j) * (t - h.time[j])
     };
+    // a sample of h within this of a piece's boundary starts or ends no piece of its own: a
+    // sliver of a few ulps (a measured σ sampled at the detected break time, a rounding apart)
+    // is a piece no integrator can step across
+    let tol = SLIVER * span;
     let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
     for p in pieces {
         let mut t0 = p.t0;
         loop {
-            let j = interval(t0);
+            let mut j = interval(t0);
+            while j + 1 < h.time.len() - 1 && h.time[j + 1] - t0 <= tol {
+                j += 1;
+            }
             let t1 = if j + 1 < h.time.len() - 1 { h.time[j + 1].min(p.t1) } else { p.t1 };
-            let t1 = if t1 <= t0 { p.t1 } else { t1 };
+            let t1 = if t1 <= t0 || p.t1 - t1 <= tol { p.t1 } else { t1 };
             let sigma0 = match out.last() {
                 Some(prev) if prev.t1 == t0 => prev.sigma_end(),
                 _ => at(t0),
@@ -393,6 +404,26 @@ fn split_by_history(pieces: &[Piece], h: &NormalStressRecord) -> Result<Vec<Piec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A measured σ sampled a few ulps before (or after) a break of the loading makes no piece
+    /// of a few ulps (no integrator steps across one), and σ stays continuous.
+    #[test]
+    fn a_normal_stress_sample_at_a_break_makes_no_sliver() {
+        let t_break = 5892.632341782755;
+        for ulps in [-12.0, 0.0, 12.0] {
+            let t_s = t_break + ulps * 9.094947017729282e-13;
+            let l = Loading::Segments(vec![Segment::for_duration(0.1, t_break), Segment::for_duration(3.0, 50.0)]);
+            let h = NormalStressRecord {
+                time: vec![0.0, t_s - 0.4, t_s, t_s + 0.4, t_s + 0.8, t_break + 60.0],
+                sigma: vec![10.0, 10.0, 10.0, 10.8, 11.6, 11.6],
+            };
+            let p = l.pieces_with(10.0, Some(&h)).unwrap();
+            assert!(p.iter().all(|q| q.t1 - q.t0 > 1e-6), "{ulps}: {p:?}");
+            assert!(p.windows(2).all(|w| (w[1].sigma0 - w[0].sigma_end()).abs() < 1e-9 && w[1].t0 == w[0].t1));
+            let last = p.last().unwrap();
+            assert!((last.sigma_end() - 11.6).abs() < 1e-6, "{ulps}: {}", last.sigma_end());
+        }
+    }
 
     #[test]
     fn segments_become_pieces() {

@@ -7,6 +7,8 @@
 //! - A cut-off velocity Vc far below every slip rate the record reached: only a segment that
 //!   brings the slip rate down towards Vc can show it — a hold long enough, or a step down to
 //!   near Vc.
+//! - A record that never changed the normal stress says nothing of α: only a change of σ can,
+//!   when the machine can make one.
 
 use rsf_core::{Model, StateVariable};
 use rsf_fit::design::{Design, DesignOptions, Primitive, design};
@@ -53,6 +55,7 @@ fn aging_against_slip_on_small_steps_asks_for_a_large_step_down_or_a_hold() {
     let leaves = best.proposal.parts.iter().any(|p| match *p {
         Primitive::Step { v, .. } => v <= g.v_end / 10f64.powf(1.5) * 1.0001,
         Primitive::Hold { hold_s, .. } => hold_s >= 30.0,
+        Primitive::NormalStress { .. } => false,
     });
     assert!(leaves, "{}", best.description);
     // and tells the laws apart better than the standard segment of the same time
@@ -70,6 +73,7 @@ fn a_cutoff_below_every_slip_rate_asks_for_a_long_hold() {
     let reaches = best.proposal.parts.iter().any(|p| match *p {
         Primitive::Step { v, .. } => v <= 3.0 * vc,
         Primitive::Hold { hold_s, .. } => hold_s >= 100.0,
+        Primitive::NormalStress { .. } => false,
     });
     assert!(reaches, "{}", best.description);
 }
@@ -140,4 +144,139 @@ fn the_design_does_not_depend_on_the_thread_count() {
     assert_eq!(json(&one), json(&two));
     let other = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { seed: 2, ..o }).unwrap();
     assert_ne!(json(&one), json(&other));
+}
+
+/// A record at constant σ: with a machine that can change σ by 20 %, the best model with α is
+/// credible and the best proposal changes σ; without, neither.
+#[test]
+fn a_record_at_constant_normal_stress_asks_for_a_change_of_it() {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(rsf_laws::Slip, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 6).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], truth.stiffness);
+    let d =
+        rsf_fit::diagnose::diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
+    let o = DesignOptions { threads: 2, max_time: 3600.0, max_hold: 3000.0, ..Default::default() };
+    let without = rsf_fit::design::design_from(&rec, &segs, &d, &o).unwrap();
+    assert!(!without.models.iter().any(|m| m.name == "normal_stress_coupling"));
+    assert!(!without.proposals.iter().any(|r| r.proposal.changes_normal_stress()));
+    let g = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { max_sigma_change: 0.2, ..o }).unwrap();
+    let alpha = g.models.iter().find(|m| m.name == "normal_stress_coupling").expect("α must be credible");
+    assert_eq!(alpha.params.alpha, vec![rsf_fit::design::ALPHA_PRIOR_MEAN]);
+    assert!(alpha.draws > 0);
+    let best = &g.proposals[0];
+    println!("{}", best.description);
+    assert!(best.proposal.changes_normal_stress(), "{}", best.description);
+    assert!(best.normal_stress.iter().all(|s| (s - 1.0).abs() <= 0.2 + 1e-12));
+    // the pair (baseline, α) is settled by it, and by no proposal that keeps σ: those leave it
+    // at the criterion's floor for two models that predict alike (the truth's draws against
+    // the rival's freedom, about the number of parameters)
+    let pair = |r: &rsf_fit::design::Ranked| {
+        r.pairs.iter().find(|p| p.a == "baseline" && p.b == "normal_stress_coupling").map(|p| p.dchi2).unwrap()
+    };
+    assert!(pair(best) > rsf_fit::design::SETTLE_DCHI2, "{}", pair(best));
+    for r in g.proposals.iter().filter(|r| !r.proposal.changes_normal_stress()) {
+        assert!(pair(r) < 0.25 * rsf_fit::design::SETTLE_DCHI2, "{}: {}", r.description, pair(r));
+    }
+    // the protocol file carries the ramp and σ_ref
+    let toml = rsf_fit::design::protocol_toml(&g, 1).unwrap();
+    assert!(toml.contains("normal_stress = 1.0") && toml.contains("normal_stress_rate"), "{toml}");
+}
+
+/// Through a change of σ appended after a record at constant σ, a prediction with α is the whole
+/// protocol solved at once (Rodas4, tight), and its derivative in α that of central differences.
+#[test]
+fn a_prediction_through_a_change_of_normal_stress_is_exact() {
+    use rsf_fit::fit::{AlphaFit, fit, parameter_map, predict, prepare};
+    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(rsf_laws::Slip, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 7).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut o = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], truth.stiffness);
+    o.rtol = 1e-10;
+    let p = prepare(&rec, &segs, &o).unwrap();
+    let f = fit(&p, &o).unwrap();
+    let names = parameter_map(&p, &o).unwrap().free_names();
+    let oa = FitOptions { alpha: AlphaFit::Shared, ..o.clone() };
+    let pa = prepare(&rec, &segs, &oa).unwrap();
+    let map = parameter_map(&pa, &oa).unwrap();
+    let alpha = 0.3;
+    let theta: Vec<f64> =
+        map.free_names().iter().map(|n| names.iter().position(|x| x == n).map_or(alpha, |i| f.theta[i])).collect();
+    let ka = map.free_names().iter().position(|n| n == "alpha1").unwrap();
+    // σ up 20 % over 1 s, slide, down to 0.9 over 1 s, slide (in units of the record's σ)
+    let next = [
+        rsf_core::Segment::for_duration(1.0, 1.0).with_normal_stress_rate(0.2),
+        rsf_core::Segment::for_duration(1.0, 60.0),
+        rsf_core::Segment::for_duration(1.0, 1.0).with_normal_stress_rate(-0.3),
+        rsf_core::Segment::for_duration(1.0, 60.0),
+    ];
+    let times: Vec<f64> = (1..=122).map(|i| 0.25 * i as f64).chain((31..=61).map(|i| 2.0 * i as f64)).collect();
+    let got = predict(&pa, &map, &oa, &theta, &next, &times, true).unwrap();
+    let pr = &f.params;
+    let mut model = Model::new(pr.mu0, pr.v0, pr.a, pr.k)
+        .with_state(StateVariable::new(rsf_laws::Slip, pr.b[0], pr.dc[0]).with_alpha(alpha));
+    model.normal_stress = Some(1.0);
+    let mut all: Vec<rsf_core::Segment> =
+        pa.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
+    all.extend_from_slice(&next);
+    let end: f64 = pa.segments.iter().map(|s| s.t1 - s.t0).sum();
+    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), pa.v_init, 1.0);
+    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
+    let direct = solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap();
+    let worst = got.mu.iter().zip(&direct.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-7, "prediction vs direct solve: {worst:e}");
+    // the change of σ shows: friction moves by more than 0.01 across the first ramp
+    assert!((got.mu[3] - got.mu[0]).abs() > 0.01, "{} {}", got.mu[0], got.mu[3]);
+    let h = 1e-5;
+    let at = |a: f64| {
+        let mut t = theta.clone();
+        t[ka] = a;
+        predict(&pa, &map, &oa, &t, &next, &times, false).unwrap().mu
+    };
+    let (up, dn) = (at(alpha + h), at(alpha - h));
+    let m = got.m;
+    let mut largest: f64 = 0.0;
+    for r in 0..times.len() {
+        let fd = (up[r] - dn[r]) / (2.0 * h);
+        let an = got.jac[r * m + ka];
+        largest = largest.max(an.abs());
+        assert!((fd - an).abs() < 1e-4 * an.abs().max(1e-3), "row {r}: {an} vs {fd}");
+    }
+    assert!(largest > 0.01, "α must matter after the change of σ: {largest}");
+}
+
+/// A design from the diagnosis's JSON (its models refitted from their reported parameters) ranks
+/// as the design from the diagnosis itself; the JSON of another record is refused.
+#[test]
+fn a_design_from_the_diagnosis_json_is_the_design_from_the_diagnosis() {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps()[..2], Noise { sigma: 1e-3, tau: 0.0 }, 3).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], truth.stiffness);
+    let dopts = DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) };
+    let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts).unwrap();
+    let json = serde_json::to_string(&d).unwrap();
+    let o = DesignOptions { threads: 2, max_time: 3600.0, max_hold: 3000.0, ..Default::default() };
+    let live = rsf_fit::design::design_from(&rec, &segs, &d, &o).unwrap();
+    let back = rsf_fit::design::design_from_json(&rec, &segs, &json, &dopts, &o).unwrap();
+    let names = |g: &Design| g.models.iter().map(|m| m.name.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&live), names(&back));
+    assert!(live.models.len() >= 2);
+    for (a, b) in live.proposals.iter().zip(&back.proposals).take(5) {
+        assert_eq!(a.description, b.description);
+        assert!((a.score - b.score).abs() <= 0.01 * a.score, "{} vs {}", a.score, b.score);
+    }
+    // another record (another noise draw): refused, with the reason
+    let other = record(&truth, 1.0, &small_steps()[..2], Noise { sigma: 1e-3, tau: 0.0 }, 4).unwrap();
+    let osegs = detect(&other.time, &other.load_point, &SegmentOptions::default());
+    let err = rsf_fit::design::design_from_json(&other, &osegs, &json, &dopts, &o).unwrap_err().to_string();
+    assert!(err.contains("not the record"), "{err}");
+    // another baseline law: refused
+    let aging = DiagnoseOptions::new(FitOptions::new(vec![law_by_name("aging", |_| None).unwrap()], truth.stiffness));
+    let err = rsf_fit::design::design_from_json(&rec, &segs, &json, &aging, &o).unwrap_err().to_string();
+    assert!(err.contains("baseline"), "{err}");
+    // a cut JSON: refused
+    let err = rsf_fit::design::design_from_json(&rec, &segs, &json[..json.len() / 2], &dopts, &o).unwrap_err();
+    assert!(err.to_string().contains("does not parse"), "{err}");
 }

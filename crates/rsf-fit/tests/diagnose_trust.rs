@@ -111,6 +111,30 @@ fn a_cutoff_whose_profile_start_runs_away_after_a_long_hold_is_still_fitted() {
     assert!((vc / 1.2115e-3).ln().abs() < 2f64.ln(), "Vc {vc}");
 }
 
+/// An Aging/Slip record with a normal-stress drop of 5 % over 1 s at its end (the design
+/// study's `evolution_law_018` with its designed segment): the drop forces fast slip, which
+/// every cold start of the Slip-law baseline turns into a run-away. The baseline is then fitted
+/// on the record before that segment first and continued from there; before, the diagnosis
+/// failed with the blow-up.
+#[test]
+fn a_baseline_whose_cold_starts_run_away_late_is_continued_from_the_record_before() {
+    use rsf_fit::data::{ReadOptions, read_record};
+    use rsf_fit::diagnose::{diagnosis_fit_options, without_spikes};
+    use rsf_fit::fit::{FitError, fit, prepare};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/design/sigma_drop_aging.csv");
+    let ro = ReadOptions { normal_col: Some("normal_stress_mpa".into()), ..ReadOptions::default() };
+    let rec = read_record(&path, &ro).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let o = options(0.0004622440548290379, LoadingMode::Protocol);
+    // what the diagnosis met: the cold fit runs away at the drop of σ
+    let fo = diagnosis_fit_options(&o);
+    let (clean, csegs, _) = without_spikes(&rec, &segs);
+    let cold = fit(&prepare(&clean, &csegs, &fo).unwrap(), &fo).err();
+    assert!(matches!(cold, Some(FitError::Start(rsf_solvers::SolveError::BlowUp { .. }))), "{cold:?}");
+    let d = diagnose(&rec, &segs, &o).unwrap();
+    assert_eq!(d.cause, Cause::EvolutionLaw, "{}", d.reason);
+}
+
 /// A plain Slip-law record whose reconstructed protocol ends the last hold 0.3 s late (the
 /// reslide then starts late in the model): under protocol loading the reslide misfits far
 /// above every other segment. The diagnosis reports the protocol problem at that break,

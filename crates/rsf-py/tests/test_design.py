@@ -49,3 +49,30 @@ def test_design_equals_the_cli_and_gives_a_dataframe():
     df = py.to_pandas()
     assert isinstance(df, pd.DataFrame) and list(df["rank"][:3]) == [1, 2, 3]
     assert any(c.startswith("dchi2:") for c in df.columns)
+
+
+def test_design_from_a_diagnosis_and_with_normal_stress_changes():
+    """rsf.design(diagnosis=...) designs from a diagnosis without diagnosing again, and ranks as
+    the design that diagnoses; with max_sigma_change the α model is credible and σ changes come
+    out in the ranking's normal_stress_ratio."""
+    with tempfile.TemporaryDirectory() as d:
+        rec = os.path.join(d, "r.csv")
+        small_steps_record(rec)
+        r = rsf.read_record(rec)
+        opts = dict(stiffness=0.01, max_time=3600, max_hold=3000, threads=1)
+        live = rsf.design(r, **opts)
+        diag = rsf.diagnose(r, stiffness=0.01, threads=1)
+        back = rsf.design(r, diagnosis=diag, **opts)
+        assert [m["name"] for m in back["models"]] == [m["name"] for m in live["models"]]
+        assert [p["description"] for p in back["proposals"][:3]] == [p["description"] for p in live["proposals"][:3]]
+        assert back["proposals"][0]["score"] == pytest.approx(live["proposals"][0]["score"], rel=1e-2)
+        path = os.path.join(d, "diag.json")
+        with open(path, "w") as f:
+            f.write(diag.to_json())
+        again = rsf.design(r, diagnosis=path, **opts)
+        assert again["proposals"][0]["description"] == back["proposals"][0]["description"]
+        sig = rsf.design(r, diagnosis=diag, max_sigma_change=0.2, **opts)
+        assert any(m["name"] == "normal_stress_coupling" for m in sig["models"])
+        assert any(x != 1.0 for p in sig["proposals"] for x in p["normal_stress_ratio"])
+        with pytest.raises(ValueError, match="baseline"):
+            rsf.design(r, diagnosis=diag, baseline="aging", **opts)

@@ -9,8 +9,9 @@
 //!    credible. A candidate with a parameter at a bound or an effect below resolution is left
 //!    out.
 //! 2. The proposals ([`space`]): velocity steps up and down of 0.5–3.5 decades with their slip,
-//!    slide–hold–reslide with holds on a log grid and the reslide distance, and sequences of
-//!    two of the best of these, within the lab's constraints.
+//!    slide–hold–reslide with holds on a log grid and the reslide distance, normal-stress
+//!    changes when the machine can make them, and sequences of two of the best of these,
+//!    within the lab's constraints.
 //! 3. The criterion (`criterion.rs`): for each ordered pair of models (truth i, rival j), the
 //!    expected lack of fit of j when i is true, over the new samples under the record's noise
 //!    model, after j re-adjusts its parameters within what the record allows:
@@ -19,7 +20,8 @@
 //!    its posterior from the record, as Box & Hill 1967 and Buzzi-Ferraris & Forzatti 1984).
 //!    A pair's value is the mean of both directions; a proposal's score is the number of pairs
 //!    it is expected to settle, Σ (1 − exp(−D_ij / [`SETTLE_DCHI2`])).
-//! 4. The ranking: by score, near-ties (within [`SCORE_TIE`]) to the shorter machine time.
+//! 4. The ranking: by score, near-ties (within [`SCORE_TIE`] pairs) to the shorter machine
+//!    time.
 //!
 //! Σ is the noise model fitted to the best credible model's residuals (white, AR(1) and drift
 //! in time), applied by a Kalman filter at the new sample times; the covariances are the fits',
@@ -29,19 +31,24 @@
 //! |---|---|
 //! | `space.rs` | proposals: primitives, sequences, sampling plan, constraints |
 //! | `criterion.rs` | the expected discrimination of one proposal between the models |
-//! | `run.rs` | the credible models, the search, the ranking: [`design`] |
+//! | `basis.rs` | what a design starts from: a diagnosis, or its JSON rebuilt ([`Rebuilt`]) |
+//! | `models.rs` | the credible models, their covariances and draws |
+//! | `run.rs` | the search, the ranking: [`design`] |
 //! | `protocol.rs` | a proposal as a TOML protocol for `rsf simulate` |
 //! | `result.rs` | [`Design`], [`Ranked`], [`DesignModel`], predicted curves |
 
+mod basis;
 mod criterion;
+mod models;
 mod protocol;
 mod result;
 mod run;
 pub mod space;
 
+pub use basis::{Basis, BasisModel, REBUILD_LNL_TOLERANCE, Rebuilt};
 pub use protocol::protocol_toml;
 pub use result::{Design, DesignModel, PairScore, PredictedCurve, Ranked};
-pub use run::{design, design_from};
+pub use run::{design, design_basis, design_from, design_from_json};
 pub use space::{Primitive, Proposal};
 
 /// A pair of models is settled by a proposal when its expected Δχ² reaches about this: the
@@ -49,12 +56,21 @@ pub use space::{Primitive, Proposal};
 /// (10 + 2 ln 10⁵ ≈ 33), with margin for the realised Δχ², which scatters about its expectation.
 pub const SETTLE_DCHI2: f64 = 40.0;
 
-/// Scores within this relative distance of each other are a tie, broken by machine time.
-pub const SCORE_TIE: f64 = 0.01;
+/// Scores within this many pairs of the best are a tie, broken by machine time: a twentieth of
+/// one pair settled is no difference worth more machine time, while a relative tie (1 % of a
+/// score of 15 pairs is 0.15 pair) let proposals that leave a pair a sixth unsettled win on time.
+pub const SCORE_TIE: f64 = 0.05;
 
 /// Default ΔBIC window of the credible models: ΔBIC −10 is decisive ([`crate::diagnose::DECISIVE`]);
 /// a model within that of the best is not decided against.
 pub const CREDIBLE_DBIC: f64 = 10.0;
+
+/// The Linker–Dieterich α of a record that never changed σ is not measured by it: the design
+/// draws it from the range lab measurements report (α ≈ 0.2–0.3 in Linker & Dieterich 1992,
+/// values from near 0 to about 0.5 in later studies), as a normal of this mean…
+pub const ALPHA_PRIOR_MEAN: f64 = 0.25;
+/// …and this standard deviation, truncated at α ≥ 0.
+pub const ALPHA_PRIOR_SD: f64 = 0.12;
 
 /// Default draws from each model's parameter covariance.
 pub const DRAWS: usize = 12;
@@ -72,6 +88,11 @@ pub struct DesignOptions {
     pub max_time: f64,
     /// Most load-point displacement of a proposal, µm.
     pub max_slip: f64,
+    /// Largest normal-stress change the machine can make, as a fraction of the record's σ
+    /// (0: none). When positive and the record's σ is constant, normal-stress changes are
+    /// proposed and the best model with Linker–Dieterich α (drawn from the lab range,
+    /// [`ALPHA_PRIOR_MEAN`] ± [`ALPHA_PRIOR_SD`]) is a credible model.
+    pub max_sigma_change: f64,
     /// Draws from each model's covariance (0: the fitted parameters only).
     pub draws: usize,
     /// Try sequences of two primitives.
@@ -86,7 +107,8 @@ pub struct DesignOptions {
 }
 
 impl Default for DesignOptions {
-    /// A lab's usual range: 0.001–300 µm/s, holds up to 10⁴ s, 4 h and 1 mm per proposal.
+    /// A lab's usual range: 0.001–300 µm/s, holds up to 10⁴ s, 4 h and 1 mm per proposal, no
+    /// normal-stress changes.
     fn default() -> Self {
         Self {
             credible_dbic: CREDIBLE_DBIC,
@@ -94,6 +116,7 @@ impl Default for DesignOptions {
             max_hold: 1e4,
             max_time: 4.0 * 3600.0,
             max_slip: 1000.0,
+            max_sigma_change: 0.0,
             draws: DRAWS,
             sequences: true,
             seed: 1,
@@ -111,6 +134,7 @@ impl std::fmt::Debug for DesignOptions {
             .field("max_hold", &self.max_hold)
             .field("max_time", &self.max_time)
             .field("max_slip", &self.max_slip)
+            .field("max_sigma_change", &self.max_sigma_change)
             .field("draws", &self.draws)
             .field("sequences", &self.sequences)
             .field("seed", &self.seed)

@@ -31,8 +31,18 @@ pub fn protocol_toml(d: &Design, rank: usize) -> Option<String> {
         let _ = writeln!(s, "# its slip trend g = {:e} /µm is not part of rsf simulate's model", p.g);
     }
     let _ = writeln!(s, "[model]\nmu0 = {:?}\nv0 = {:?}\na = {:?}\nstiffness = {:?}", p.mu0, p.v0, p.a, p.k);
+    let sigma = r.normal_stress.iter().any(|&x| x != 1.0);
+    if sigma {
+        let _ = writeln!(
+            s,
+            "normal_stress = 1.0   # σ in units of the record's σ (only ratios enter; scale every σ by it for MPa)"
+        );
+    }
     for (i, law) in p.laws.iter().enumerate() {
         let _ = writeln!(s, "\n[[model.state]]\nlaw = \"{law}\"\nb = {:?}\ndc = {:?}", p.b[i], p.dc[i]);
+        if let Some(&alpha) = p.alpha.get(i).filter(|&&x| x != 0.0 && sigma) {
+            let _ = writeln!(s, "alpha = {alpha:?}");
+        }
         for (name, v) in &p.law_params {
             if name.strip_suffix(&(i + 1).to_string()).is_some_and(|n| n.chars().all(|c| c.is_ascii_alphabetic())) {
                 let _ = writeln!(s, "{} = {v:?}", name.trim_end_matches(|c: char| c.is_ascii_digit()));
@@ -40,8 +50,13 @@ pub fn protocol_toml(d: &Design, rank: usize) -> Option<String> {
         }
     }
     let _ = writeln!(s, "\n[loading]\nv_init = {:?}", d.v_end);
-    for (v, dur) in &r.segments {
+    let mut level = 1.0;
+    for (&(v, dur), &to) in r.segments.iter().zip(&r.normal_stress) {
         let _ = writeln!(s, "\n[[loading.segment]]\nv = {v:?}\nduration = {dur:?}");
+        if to != level {
+            let _ = writeln!(s, "normal_stress_rate = {:?}   # σ ramps to {to:?} × the record's", (to - level) / dur);
+            level = to;
+        }
     }
     // the record's own interval, coarsened to at most OUTPUT_ROWS rows for a long proposal
     let _ = writeln!(s, "\n[output]\ndt = {:?}", d.dt_slide_s.max(r.machine_time_s / OUTPUT_ROWS));

@@ -42,7 +42,7 @@ pub struct PairScore {
 pub struct Ranked {
     /// 1-based rank (0 for an unranked comparison, the standard segment).
     pub rank: usize,
-    /// `step`, `hold` or `sequence`.
+    /// `step`, `hold`, `normal_stress` or `sequence`.
     pub kind: &'static str,
     /// In words.
     pub description: String,
@@ -50,6 +50,10 @@ pub struct Ranked {
     pub proposal: Proposal,
     /// Its protocol segments: (load-point velocity µm/s, duration s).
     pub segments: Vec<(f64, f64)>,
+    /// The normal stress at the end of each segment over the record's (1: unchanged); a change
+    /// is a linear ramp through its segment.
+    #[serde(rename = "normal_stress_ratio")]
+    pub normal_stress: Vec<f64>,
     /// Machine time, s.
     pub machine_time_s: f64,
     /// Load-point displacement, µm.

@@ -1,32 +1,15 @@
 //! The design itself: the credible models, the proposals scored in parallel, the ranking.
 
+use super::basis::{Basis, Rebuilt};
 use super::criterion::{Whitened, expected_lack_of_fit};
-use super::result::{Design, DesignModel, PairScore, PredictedCurve, Ranked};
+use super::models::{Credible, Source, credible, prepare_model, source, with_alpha};
+use super::result::{Design, PairScore, PredictedCurve, Ranked};
 use super::space::{Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, singles, standard};
 use super::{DesignOptions, SCORE_TIE, SETTLE_DCHI2};
 use crate::data::Record;
 use crate::diagnose::{Cause, DiagnoseOptions, Diagnosis, NoiseModel, diagnose, noisy, par_map};
-use crate::fit::{FitError, FitOptions, FitResult, LoadingMode, ParamMap, Prepared, parameter_map, predict, prepare};
+use crate::fit::{FitError, LoadingMode, driving_normal_stress, predict};
 use crate::segment::Segment;
-use nalgebra::DMatrix;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
-
-/// Attempts per wanted draw before a model makes do with fewer.
-const DRAW_ATTEMPTS: usize = 20;
-
-/// A credible model, ready to predict.
-struct Credible {
-    info: DesignModel,
-    opts: FitOptions,
-    p: Prepared,
-    map: ParamMap,
-    theta: Vec<f64>,
-    /// S with S Sᵀ = the inflated covariance of θ.
-    sqrt_cov: DMatrix<f64>,
-    draws: Vec<Vec<f64>>,
-}
 
 /// One model's raw predictions of one proposal.
 struct Raw {
@@ -50,16 +33,39 @@ pub fn design(
 /// The next segment that best tells apart the credible models of the diagnosis `d` of `rec`
 /// (with its segments `segs`).
 pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOptions) -> Result<Design, FitError> {
+    design_basis(rec, segs, &Basis::of(d)?, o)
+}
+
+/// The next segment that best tells apart the credible models of the diagnosis written as
+/// `json` by `rsf diagnose --json` on `rec` with the options `dopts` ([`Rebuilt::from_json`]).
+pub fn design_from_json(
+    rec: &Record,
+    segs: &[Segment],
+    json: &str,
+    dopts: &DiagnoseOptions,
+    o: &DesignOptions,
+) -> Result<Design, FitError> {
+    let rebuilt = Rebuilt::from_json(rec, segs, json, dopts)?;
+    let mut out = design_basis(rec, segs, &rebuilt.basis(), o)?;
+    out.notes.splice(0..0, rebuilt.notes.iter().cloned());
+    Ok(out)
+}
+
+/// The next segment that best tells apart the credible models of `d`.
+pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOptions) -> Result<Design, FitError> {
     if !(o.v_range.0 > 0.0 && o.v_range.1 >= o.v_range.0 && o.v_range.1.is_finite()) {
         return Err(FitError::Setup(format!("v-range {:?}: needs 0 < low ≤ high", o.v_range)));
     }
     if !(o.max_time > 0.0 && o.max_hold >= 0.0 && o.max_slip > 0.0) {
         return Err(FitError::Setup("max-time and max-slip must be positive, max-hold not negative".into()));
     }
-    let base_opts = d
-        .baseline_options
-        .clone()
-        .ok_or_else(|| FitError::Setup("the diagnosis carries no baseline options to design from".into()))?;
+    let base_opts = d.baseline_options.clone();
+    if !(o.max_sigma_change >= 0.0 && o.max_sigma_change < 1.0) {
+        return Err(FitError::Setup(format!(
+            "max-sigma-change {}: needs 0 ≤ fraction < 1 of the record's normal stress",
+            o.max_sigma_change
+        )));
+    }
     let mut notes = vec![];
     let models = credible(d, &base_opts, o, &mut notes);
     let last = segs.last().ok_or_else(|| FitError::Setup("the record has no segments".into()))?;
@@ -72,11 +78,24 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
             "the diagnosis fitted with the measured load point; the predictions run the detected protocol".into(),
         );
     }
-    let models: Vec<Credible> = models
-        .into_iter()
-        .enumerate()
-        .filter_map(|(i, (info, fit, opts))| prepare_model(rec, segs, info, fit, opts, o, i as u64).ok())
-        .collect();
+    let mut sources: Vec<Source> = models.into_iter().filter_map(|(info, fit, opts)| source(info, fit, opts)).collect();
+    // normal-stress changes: only on a record of constant σ (a measured history already makes
+    // α one of the diagnosis's candidates, and the changes would be stated against it)
+    let sigma = o.max_sigma_change > 0.0 && driving_normal_stress(rec, base_opts.normal_stress).is_none();
+    if o.max_sigma_change > 0.0 && !sigma {
+        notes.push(
+            "the record's normal stress varies: α is among the diagnosis's candidates, and normal-stress changes are not proposed on top of a measured history".into(),
+        );
+    }
+    if sigma && !sources.iter().any(|s| s.info.cause == Cause::NormalStressCoupling) {
+        match sources.first().map(|best| with_alpha(rec, segs, best)) {
+            Some(Ok(a)) => sources.push(a),
+            Some(Err(e)) => notes.push(format!("normal_stress_coupling left out: {e}")),
+            None => {}
+        }
+    }
+    let models: Vec<Credible> =
+        sources.into_iter().enumerate().filter_map(|(i, s)| prepare_model(rec, segs, s, o, i as u64).ok()).collect();
     if models.len() < 2 {
         let only = models.first().map_or("none".to_string(), |m| m.info.name.clone());
         return Ok(Design {
@@ -99,7 +118,7 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
     // unconstrained; the grid's 30 Dc reaches the slow states a record can show)
     let dc_ref = d.baseline.params.dc.first().copied().unwrap_or(10.0).max(1e-3);
     let ctx = Scorer { models: &models, noise: &noise, dt_slide, dt_hold };
-    let first = singles(v_end, dc_ref, o);
+    let first = singles(v_end, dc_ref, o, sigma);
     let seq_guess = if o.sequences { SEQUENCE_SEEDS * (SEQUENCE_SEEDS - 1) } else { 0 };
     let total = first.len() + seq_guess;
     let done = std::sync::atomic::AtomicUsize::new(0);
@@ -154,104 +173,6 @@ pub fn design_from(rec: &Record, segs: &[Segment], d: &Diagnosis, o: &DesignOpti
     })
 }
 
-/// The credible models, best first: the model of the diagnosis's cause (the baseline for
-/// `none`: a candidate that scores better but failed a check is not yet the answer), and each
-/// candidate with a fit, no parameter at a bound, an effect the record resolves, and a ΔBIC
-/// within the window of the best, its Occam penalty not counted.
-fn credible<'a>(
-    d: &'a Diagnosis,
-    base_opts: &FitOptions,
-    o: &DesignOptions,
-    notes: &mut Vec<String>,
-) -> Vec<(DesignModel, &'a FitResult, FitOptions)> {
-    let base_law = base_opts.laws[0].name();
-    let entry = |name: String, cause: Cause, extension: String, delta_bic: f64, f: &FitResult| DesignModel {
-        name,
-        cause,
-        extension,
-        delta_bic,
-        params: f.params.clone(),
-        stderr_theta: vec![],
-        draws: 0,
-    };
-    let mut all: Vec<(DesignModel, &FitResult, FitOptions, f64)> = vec![(
-        entry("baseline".into(), Cause::None, format!("{base_law} law, one state"), 0.0, &d.baseline),
-        &d.baseline,
-        base_opts.clone(),
-        0.0,
-    )];
-    let ln_n = (d.baseline.n.max(3) as f64).ln();
-    for c in &d.candidates {
-        let (Some(f), Some(oc)) = (&c.fit, &c.options) else { continue };
-        if !c.at_bound.is_empty() || c.unresolved.is_some() {
-            notes.push(format!(
-                "{} left out: {}",
-                c.cause,
-                c.unresolved.clone().unwrap_or_else(|| format!("{} at a bound", c.at_bound.join(", ")))
-            ));
-            continue;
-        }
-        // the parameters it adds, from the two criteria: ΔBIC − ΔAIC = Δk (ln n − 2)
-        let dk = ((c.delta_bic - c.delta_aic) / (ln_n - 2.0)).max(0.0);
-        all.push((entry(c.cause.as_str().into(), c.cause, c.extension.clone(), c.delta_bic, f), f, oc.clone(), dk));
-    }
-    let best = all.iter().map(|m| m.0.delta_bic).fold(f64::INFINITY, f64::min);
-    // within the window of the best, Occam's penalty for the parameters it adds not counted
-    // against it: an extension that gains nothing (the effect where the record never went)
-    // stays credible while the best is the baseline
-    let mut keep: Vec<(DesignModel, &FitResult, FitOptions)> = all
-        .into_iter()
-        .filter(|(m, _, _, dk)| m.cause == d.cause || m.delta_bic - best <= o.credible_dbic + dk * ln_n)
-        .map(|(m, f, oc, _)| (m, f, oc))
-        .collect();
-    keep.sort_by(|a, b| a.0.delta_bic.total_cmp(&b.0.delta_bic));
-    keep
-}
-
-/// A model with its parameter map, inflated covariance square root and draws.
-fn prepare_model(
-    rec: &Record,
-    segs: &[Segment],
-    mut info: DesignModel,
-    fit: &FitResult,
-    opts: FitOptions,
-    o: &DesignOptions,
-    index: u64,
-) -> Result<Credible, FitError> {
-    let p = prepare(rec, segs, &opts)?;
-    let map = parameter_map(&p, &opts)?;
-    let m = fit.theta.len();
-    if map.free_names().len() != m || fit.cov_theta.len() != m * m {
-        return Err(FitError::Setup(format!("{}: its fit has no covariance", info.name)));
-    }
-    // correlated residuals carry n_eff samples' worth of information, not n
-    let nm = noisy(fit).model;
-    let inflate = (fit.curve.data.len() as f64 / nm.n_effective.max(1.0)).max(1.0);
-    let cov = DMatrix::from_row_slice(m, m, &fit.cov_theta) * inflate;
-    let cov = (&cov + cov.transpose()) * 0.5;
-    let eig = cov.clone().symmetric_eigen();
-    let sqrt_cov = &eig.eigenvectors * DMatrix::from_diagonal(&eig.eigenvalues.map(|l| l.max(0.0).sqrt()));
-    let mut rng = ChaCha8Rng::seed_from_u64(o.seed.wrapping_mul(0x9E37_79B9).wrapping_add(index));
-    // draws outside the physical bounds are drawn again (a truncated normal), up to
-    // DRAW_ATTEMPTS per draw wanted: a parameter the record leaves unconstrained keeps the
-    // draws that are physical
-    let mut draws = vec![];
-    for _ in 0..o.draws * DRAW_ATTEMPTS {
-        if draws.len() == o.draws {
-            break;
-        }
-        let z = nalgebra::DVector::from_fn(m, |_, _| StandardNormal.sample(&mut rng));
-        let dz = &sqrt_cov * z;
-        let th: Vec<f64> = fit.theta.iter().zip(dz.iter()).map(|(a, b)| a + b).collect();
-        if map.in_bounds(&th) {
-            draws.push(th);
-        }
-    }
-    info.stderr_theta = map.free_names().into_iter().zip((0..m).map(|k| cov[(k, k)].sqrt())).collect();
-    info.draws = draws.len();
-    Ok(Credible { info, opts, p, map, theta: fit.theta.clone(), sqrt_cov, draws })
-}
-
 /// The sampling interval in holds of a record that has none, s: labs slow their sampling in
 /// holds, to 1 Hz or less.
 const DEFAULT_HOLD_INTERVAL: f64 = 1.0;
@@ -293,8 +214,7 @@ impl Scorer<'_> {
 
     /// The proposal scored, with the models' curves.
     fn score(&self, prop: &Proposal, v_end: f64) -> Option<(Ranked, Vec<PredictedCurve>)> {
-        let next: Vec<rsf_core::Segment> =
-            prop.segments().iter().map(|&(v, d)| rsf_core::Segment::for_duration(v, d)).collect();
+        let next = prop.protocol();
         let s = sampling(prop, self.dt_slide, self.dt_hold);
         let raws: Vec<Raw> = self.models.iter().map(|m| self.predict(m, &next, &s)).collect::<Option<_>>()?;
         let curves = raws
@@ -342,6 +262,7 @@ impl Scorer<'_> {
                 description: prop.describe(v_end),
                 proposal: prop.clone(),
                 segments: prop.segments(),
+                normal_stress: prop.sigma_levels(),
                 machine_time_s: t,
                 slip_um: prop.slip(),
                 samples: s.samples,
@@ -355,12 +276,19 @@ impl Scorer<'_> {
     }
 }
 
-/// Best first: by score, scores within [`SCORE_TIE`] of the best score's scale one bucket,
-/// broken by the shorter machine time; ranks set.
-fn rank(v: &mut [Ranked]) {
-    let top = v.iter().map(|r| r.score).fold(0.0, f64::max).max(1e-12);
-    let bucket = |r: &Ranked| (r.score / (SCORE_TIE * top)).floor() as i64;
-    v.sort_by(|a, b| bucket(b).cmp(&bucket(a)).then(a.machine_time_s.total_cmp(&b.machine_time_s)));
+/// Best first: of the proposals left, those within [`SCORE_TIE`] (pairs) of the best score
+/// left are a tie, and the one of the shortest machine time (then the higher score) comes next;
+/// ranks set.
+fn rank(v: &mut Vec<Ranked>) {
+    let mut left = std::mem::take(v);
+    left.sort_by(|a, b| b.score.total_cmp(&a.score).then(a.machine_time_s.total_cmp(&b.machine_time_s)));
+    while let Some(top) = left.first().map(|r| r.score) {
+        let tied = left.iter().take_while(|r| r.score >= top - SCORE_TIE).count().max(1);
+        let next = (0..tied)
+            .min_by(|&a, &b| left[a].machine_time_s.total_cmp(&left[b].machine_time_s).then(a.cmp(&b)))
+            .unwrap_or(0);
+        v.push(left.remove(next));
+    }
     for (i, r) in v.iter_mut().enumerate() {
         r.rank = i + 1;
     }
@@ -383,4 +311,47 @@ fn summarize(best: &Ranked, standard: Option<&Ranked>, models: &[Credible]) -> S
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::Primitive;
+
+    fn ranked(score: f64, machine_time_s: f64, p: Primitive) -> Ranked {
+        Ranked {
+            rank: 0,
+            kind: "step",
+            description: String::new(),
+            proposal: Proposal { parts: vec![p] },
+            segments: vec![],
+            normal_stress: vec![],
+            machine_time_s,
+            slip_um: 0.0,
+            samples: 0,
+            score,
+            score_per_hour: 0.0,
+            lead_pair_dchi2: 0.0,
+            pairs: vec![],
+        }
+    }
+
+    /// Scores within SCORE_TIE (0.05 pair) of the best are a tie, won by the shorter proposal,
+    /// even where a multiple of 1 % of the top score falls between them (a fixed bucketing of
+    /// 1 % of the top split these); 0.1 pair apart is not a tie.
+    #[test]
+    fn near_ties_go_to_the_shorter_proposal() {
+        let h = Primitive::Hold { hold_s: 1e4, v: 1.0, slip: 10.0 };
+        let mut v = vec![
+            ranked(14.9991, 11170.0, h),
+            ranked(14.9964, 10263.0, h),
+            ranked(10.0, 10.0, h),
+            ranked(14.0, 100.0, h),
+            ranked(14.9, 50.0, h),
+        ];
+        rank(&mut v);
+        let times: Vec<f64> = v.iter().map(|r| r.machine_time_s).collect();
+        assert_eq!(times, vec![10263.0, 11170.0, 50.0, 100.0, 10.0]);
+        assert_eq!(v.iter().map(|r| r.rank).collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
+    }
 }

@@ -1,6 +1,6 @@
-//! The proposals: velocity steps and slide–hold–reslides appended at the record's end, and
-//! sequences of two; each as protocol segments, machine time, slip, and the samples a lab
-//! would record.
+//! The proposals: velocity steps, slide–hold–reslides and (when the machine can) normal-stress
+//! changes appended at the record's end, and sequences of two; each as protocol segments,
+//! machine time, slip, and the samples a lab would record.
 
 use super::DesignOptions;
 use serde::Serialize;
@@ -22,7 +22,17 @@ pub const SEQUENCE_SEEDS: usize = 6;
 /// for the samples around it.
 pub const POINTS_PER_SEGMENT: usize = 150;
 
-/// Shortest protocol segment a proposal holds, s: a lab's servo settles and its sampling
+/// Normal-stress changes proposed, fractions of the record's σ (up and down, those within
+/// [`DesignOptions::max_sigma_change`]): the range of the normal-stress steps of lab
+/// experiments on the Linker–Dieterich effect, from a few to some tens of percent.
+pub const SIGMA_CHANGES: [f64; 5] = [0.05, 0.1, 0.2, 0.3, 0.5];
+
+/// Time over which a proposed normal-stress change is ramped, s: a servo changes σ within about
+/// a second, and a ramp (not an instantaneous step) is what the forward sensitivities carry
+/// exactly.
+pub const SIGMA_RAMP_S: f64 = 1.0;
+
+/// Shortest protocol segment a proposal holds (σ ramps aside), s: a lab's servo settles and its sampling
 /// resolves a new velocity within seconds, not within a fraction of one (a 0.8 s step of 7
 /// samples predicts far more than a real machine shows).
 pub const MIN_SEGMENT_S: f64 = 10.0;
@@ -47,6 +57,16 @@ pub enum Primitive {
         /// Reslide displacement, µm.
         slip: f64,
     },
+    /// The normal stress ramped to `level` × the record's over [`SIGMA_RAMP_S`] at `v` (µm/s),
+    /// then sliding at `v` for `slip` µm at that σ.
+    NormalStress {
+        /// σ after the change over the record's σ.
+        level: f64,
+        /// Load-point velocity, µm/s.
+        v: f64,
+        /// Load-point displacement after the ramp, µm.
+        slip: f64,
+    },
 }
 
 impl Primitive {
@@ -55,6 +75,16 @@ impl Primitive {
         match *self {
             Primitive::Step { v, slip } => vec![(v, slip / v)],
             Primitive::Hold { hold_s, v, slip } => vec![(0.0, hold_s), (v, slip / v)],
+            Primitive::NormalStress { v, slip, .. } => vec![(v, SIGMA_RAMP_S), (v, slip / v)],
+        }
+    }
+
+    /// σ over the record's at the end of each of its segments, from `level` before it.
+    fn sigma_levels(&self, level: f64) -> Vec<f64> {
+        match *self {
+            Primitive::Step { .. } => vec![level],
+            Primitive::Hold { .. } => vec![level; 2],
+            Primitive::NormalStress { level: to, .. } => vec![to; 2],
         }
     }
 
@@ -69,12 +99,19 @@ impl Primitive {
             Primitive::Hold { hold_s, v, slip } => {
                 format!("hold {} s, reslide at {} µm/s for {} µm", num(hold_s), num(v), num(slip))
             }
+            Primitive::NormalStress { level, v, slip } => format!(
+                "normal stress to {}× the record's (over {} s) at {} µm/s, slide {} µm",
+                num(level),
+                num(SIGMA_RAMP_S),
+                num(v),
+                num(slip)
+            ),
         }
     }
 
     fn end_velocity(&self) -> f64 {
         match *self {
-            Primitive::Step { v, .. } | Primitive::Hold { v, .. } => v,
+            Primitive::Step { v, .. } | Primitive::Hold { v, .. } | Primitive::NormalStress { v, .. } => v,
         }
     }
 }
@@ -103,6 +140,40 @@ impl Proposal {
         self.parts.iter().flat_map(|p| p.segments()).collect()
     }
 
+    /// σ over the record's at the end of each protocol segment (1: unchanged); a change is a
+    /// linear ramp through its segment.
+    pub fn sigma_levels(&self) -> Vec<f64> {
+        let mut level = 1.0;
+        let mut out = vec![];
+        for p in &self.parts {
+            let l = p.sigma_levels(level);
+            level = *l.last().unwrap_or(&level);
+            out.extend(l);
+        }
+        out
+    }
+
+    /// Whether it changes the normal stress.
+    pub fn changes_normal_stress(&self) -> bool {
+        self.parts.iter().any(|p| matches!(p, Primitive::NormalStress { .. }))
+    }
+
+    /// Its protocol segments as the solvers take them: σ ramps as normal-stress rates in units
+    /// of the record's σ (the model's σ_ref is then 1: only ratios of σ enter).
+    pub fn protocol(&self) -> Vec<rsf_core::Segment> {
+        let mut level = 1.0;
+        self.segments()
+            .iter()
+            .zip(self.sigma_levels())
+            .map(|(&(v, d), s)| {
+                let seg = rsf_core::Segment::for_duration(v, d);
+                let rate = (s - level) / d;
+                level = s;
+                if rate != 0.0 { seg.with_normal_stress_rate(rate) } else { seg }
+            })
+            .collect()
+    }
+
     /// Machine time, s.
     pub fn machine_time(&self) -> f64 {
         self.segments().iter().map(|s| s.1).sum()
@@ -118,6 +189,7 @@ impl Proposal {
         match self.parts[..] {
             [Primitive::Step { .. }] => "step",
             [Primitive::Hold { .. }] => "hold",
+            [Primitive::NormalStress { .. }] => "normal_stress",
             _ => "sequence",
         }
     }
@@ -136,20 +208,38 @@ impl Proposal {
     fn fits(&self, o: &DesignOptions) -> bool {
         let holds_ok = self.parts.iter().all(|p| match *p {
             Primitive::Hold { hold_s, .. } => hold_s <= o.max_hold * (1.0 + 1e-9),
-            Primitive::Step { .. } => true,
+            Primitive::Step { .. } | Primitive::NormalStress { .. } => true,
         });
-        let long_enough = self.segments().iter().all(|s| s.1 >= MIN_SEGMENT_S * (1.0 - 1e-9));
+        // every segment but a σ ramp lasts MIN_SEGMENT_S
+        let long_enough = self.parts.iter().all(|p| {
+            let segs = p.segments();
+            let skip = usize::from(matches!(p, Primitive::NormalStress { .. }));
+            segs[skip..].iter().all(|s| s.1 >= MIN_SEGMENT_S * (1.0 - 1e-9))
+        });
+        // each σ change changes σ, and σ stays within the machine's range
+        let mut level = 1.0;
+        let sigma_ok = self.parts.iter().all(|p| match *p {
+            Primitive::NormalStress { level: to, .. } => {
+                let ok = (to - level).abs() > 1e-9 && (to - 1.0).abs() <= o.max_sigma_change * (1.0 + 1e-9) && to > 0.0;
+                level = to;
+                ok
+            }
+            Primitive::Step { .. } | Primitive::Hold { .. } => true,
+        });
         holds_ok
             && long_enough
+            && sigma_ok
             && self.machine_time() <= o.max_time * (1.0 + 1e-9)
             && self.slip() <= o.max_slip * (1.0 + 1e-9)
     }
 }
 
 /// The single proposals from the record's end velocity `v_end` (µm/s) on the slip scale
-/// `dc_ref` µm (the baseline's Dc), within the options' constraints. A slip longer than the constraints allow
-/// is shortened to the most they allow once (so a long-Dc model still gets its longest step).
-pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions) -> Vec<Proposal> {
+/// `dc_ref` µm (the baseline's Dc), within the options' constraints; normal-stress changes only
+/// when `sigma` (the machine can change σ and the record's σ is not a measured history). A slip
+/// longer than the constraints allow is shortened to the most they allow once (so a long-Dc
+/// model still gets its longest step).
+pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions, sigma: bool) -> Vec<Proposal> {
     let mut out: Vec<Proposal> = vec![];
     let mut push = |p: Proposal| {
         if p.fits(o) && !out.contains(&p) {
@@ -176,6 +266,22 @@ pub fn singles(v_end: f64, dc_ref: f64, o: &DesignOptions) -> Vec<Proposal> {
                     (m * dc_ref).max(v_end * MIN_SEGMENT_S).min(o.max_slip).min(v_end * (o.max_time - h).max(0.0));
                 if slip > 0.0 {
                     push(Proposal { parts: vec![Primitive::Hold { hold_s: h, v: v_end, slip }] });
+                }
+            }
+        }
+        if sigma {
+            for &f in SIGMA_CHANGES.iter().filter(|&&f| f <= o.max_sigma_change * (1.0 + 1e-9)) {
+                for level in [1.0 + f, 1.0 - f] {
+                    for &m in &STEP_SLIP_DC {
+                        let ramp = v_end * SIGMA_RAMP_S;
+                        let slip = (m * dc_ref)
+                            .max(v_end * MIN_SEGMENT_S)
+                            .min(o.max_slip - ramp)
+                            .min(v_end * (o.max_time - SIGMA_RAMP_S));
+                        if slip > 0.0 {
+                            push(Proposal { parts: vec![Primitive::NormalStress { level, v: v_end, slip }] });
+                        }
+                    }
                 }
             }
         }
@@ -261,7 +367,7 @@ mod tests {
     #[test]
     fn singles_respect_the_constraints() {
         let o = DesignOptions { v_range: (0.01, 100.0), max_hold: 1000.0, max_time: 2000.0, ..Default::default() };
-        let s = singles(1.0, 10.0, &o);
+        let s = singles(1.0, 10.0, &o, false);
         assert!(!s.is_empty());
         for p in &s {
             assert!(p.machine_time() <= 2000.0 * (1.0 + 1e-9), "{p:?}");
@@ -273,11 +379,45 @@ mod tests {
         assert!(s.iter().all(|p| p.segments().iter().all(|x| x.1 >= MIN_SEGMENT_S * (1.0 - 1e-9))));
         // 2 decades up would need 1000 µm in 10 s: more than max_slip allows, so not proposed
         let o2 = DesignOptions { max_slip: 500.0, ..o.clone() };
-        assert!(!singles(1.0, 10.0, &o2).iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if v > 50.0)));
+        assert!(
+            !singles(1.0, 10.0, &o2, false).iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if v > 50.0))
+        );
         // a 3000 s hold is over max_hold; 2 decades down is inside the range, 2.5 is not
         assert!(!s.iter().any(|p| matches!(p.parts[0], Primitive::Hold { hold_s, .. } if hold_s > 1000.0)));
         assert!(s.iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if (v - 0.01).abs() < 1e-12)));
         assert!(!s.iter().any(|p| matches!(p.parts[0], Primitive::Step { v, .. } if v < 0.009)));
+    }
+
+    #[test]
+    fn normal_stress_changes_stay_within_the_machine_range() {
+        let o = DesignOptions { max_sigma_change: 0.2, ..Default::default() };
+        assert!(!singles(1.0, 10.0, &o, false).iter().any(Proposal::changes_normal_stress));
+        let s: Vec<Proposal> =
+            singles(1.0, 10.0, &o, true).into_iter().filter(Proposal::changes_normal_stress).collect();
+        // 5, 10 and 20 %, up and down, three slips each
+        assert_eq!(s.len(), 3 * 2 * STEP_SLIP_DC.len(), "{s:?}");
+        for p in &s {
+            let segs = p.protocol();
+            // a 1 s ramp to the new level, then the slide at it
+            assert_eq!(segs.len(), 2);
+            let level = 1.0 + segs[0].normal_stress_rate * SIGMA_RAMP_S;
+            assert!((level - p.sigma_levels()[0]).abs() < 1e-12 && (level - 1.0).abs() <= 0.2 + 1e-12);
+            assert_eq!(segs[1].normal_stress_rate, 0.0);
+            assert!(p.segments()[1].1 >= MIN_SEGMENT_S);
+        }
+        // up 20 % then down to 0.8: within range; up then up again to the same level: no change
+        let up = Primitive::NormalStress { level: 1.2, v: 1.0, slip: 30.0 };
+        let down = Primitive::NormalStress { level: 0.8, v: 1.0, slip: 30.0 };
+        assert!(Proposal { parts: vec![up, down] }.fits(&o));
+        assert!(!Proposal { parts: vec![up, up] }.fits(&o));
+        let too_far = Primitive::NormalStress { level: 1.3, v: 1.0, slip: 30.0 };
+        assert!(!Proposal { parts: vec![too_far] }.fits(&o));
+        let seq = Proposal { parts: vec![up, Primitive::Hold { hold_s: 100.0, v: 1.0, slip: 30.0 }] };
+        assert_eq!(seq.sigma_levels(), vec![1.2, 1.2, 1.2, 1.2]);
+        let rates: Vec<f64> = seq.protocol().iter().map(|s| s.normal_stress_rate).collect();
+        assert!((rates[0] - 0.2).abs() < 1e-12 && rates[1..].iter().all(|&r| r == 0.0), "{rates:?}");
+        // machines without σ control (the default) get none
+        assert!(!singles(1.0, 10.0, &DesignOptions::default(), true).iter().any(Proposal::changes_normal_stress));
     }
 
     #[test]

@@ -110,18 +110,7 @@ impl Ctx<'_> {
     /// The ways to apply `cause`: its extension, and for the evolution law also a mixture (a
     /// state of each law sharing one Dc: healing partly by time, partly by slip).
     pub(super) fn variants(&self, cause: Cause) -> Vec<(String, FitOptions)> {
-        let mut tries = vec![];
-        if let Some(o) = cause.extend(&self.cand_opts, &self.base_law) {
-            tries.push((cause.describe(&self.base_law), o));
-        }
-        if cause == Cause::EvolutionLaw {
-            let other = other_law(&self.base_law);
-            let mut om = self.cand_opts.clone();
-            om.laws.push(builtin(other));
-            om.fix.push(crate::fit::Constraint::difference("dc1", "dc2", 0.0));
-            tries.push((format!("a mixture: {} and {other} states sharing Dc", self.base_law), om));
-        }
-        tries
+        cause_variants(cause, &self.cand_opts, &self.base_law)
     }
 
     /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`),
@@ -419,4 +408,22 @@ pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], leve
                 && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
         })
         .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+}
+
+/// The ways to apply `cause` to the options `o` of a baseline of `base_law`: its extension, and
+/// for the evolution law also a mixture (a state of each law sharing one Dc: healing partly by
+/// time, partly by slip); each with its words.
+pub fn cause_variants(cause: Cause, o: &FitOptions, base_law: &str) -> Vec<(String, FitOptions)> {
+    let mut tries = vec![];
+    if let Some(e) = cause.extend(o, base_law) {
+        tries.push((cause.describe(base_law), e));
+    }
+    if cause == Cause::EvolutionLaw {
+        let other = other_law(base_law);
+        let mut om = o.clone();
+        om.laws.push(builtin(other));
+        om.fix.push(crate::fit::Constraint::difference("dc1", "dc2", 0.0));
+        tries.push((format!("a mixture: {base_law} and {other} states sharing Dc"), om));
+    }
+    tries
 }

@@ -38,6 +38,11 @@ impl Cause {
         Cause::NormalStressCoupling,
     ];
 
+    /// The cause named `s` (its [`as_str`](Self::as_str) name, as in JSON).
+    pub fn parse(s: &str) -> Option<Cause> {
+        std::iter::once(Cause::None).chain(Self::CANDIDATES).find(|c| c.as_str() == s)
+    }
+
     /// The snake_case name (as in JSON).
     pub fn as_str(self) -> &'static str {
         match self {

@@ -59,6 +59,7 @@ mod starts;
 mod timing;
 mod whittle;
 
+pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub(crate) use evidence::noisy;
@@ -70,7 +71,7 @@ pub use reconstruction::{
     SUSPECT_SEGMENT_RATIO,
 };
 pub use result::{Candidate, Diagnosis, Evidence, Gain, NoiseDrift, Secondary};
-pub use run::diagnose;
+pub use run::{diagnose, diagnosis_fit_options, without_spikes};
 pub(crate) use sampling::whiten;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};

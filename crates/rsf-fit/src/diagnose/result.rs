@@ -93,8 +93,8 @@ pub struct Candidate {
     /// fastest rate. Such a candidate is not named.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unresolved: Option<String>,
-    /// The fit.
-    #[serde(skip)]
+    /// The fit; in JSON its parameters, `params` (what `rsf design --from` refits from).
+    #[serde(rename = "params", serialize_with = "params_of", skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitResult>,
     /// Its held-out training fit (the start of a combination's held-out fit).
     #[serde(skip)]
@@ -102,6 +102,11 @@ pub struct Candidate {
     /// The options it was fitted with (the base of combinations).
     #[serde(skip)]
     pub options: Option<FitOptions>,
+}
+
+/// A candidate's fit in JSON: its parameters.
+fn params_of<S: serde::Serializer>(fit: &Option<FitResult>, s: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&fit.as_ref().map(|f| &f.params), s)
 }
 
 /// The gain of the chosen extension.

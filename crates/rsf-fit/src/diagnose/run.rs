@@ -6,7 +6,7 @@ use super::cause::Cause;
 use super::decide::{heldout_ok, ineligible, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
-use super::heldout::{heldout, split_time};
+use super::heldout::{heldout, split_time, training};
 use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
 use super::starts::slip_rate_range;
@@ -15,6 +15,7 @@ use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
 use crate::data::{Record, isolated_spikes};
 use crate::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
 use crate::segment::Segment;
+use rsf_solvers::SolveError;
 
 /// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
 /// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
@@ -41,7 +42,7 @@ fn baseline(
     // nothing else runs yet: the starts side by side (the returned options keep one thread,
     // for the fits that run as parallel jobs later)
     let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
-    let base = fit(&p, o)?;
+    let base = continued(rec, segs, &p, o, &fit)?;
     if o.loading == LoadingMode::Protocol {
         if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
             let or = FitOptions { loading: LoadingMode::Record, ..o.clone() };
@@ -68,6 +69,33 @@ fn baseline(
     Ok((o.clone(), p, base, None))
 }
 
+/// The cold fit of `p` (`rec` with its segments `segs`), continued when every start blows up
+/// at some time t: a start far from the optimum can be driven to run away by a large change
+/// late in the record (a drop of σ forces fast slip, which a poor start cannot follow). The
+/// record before the segment where it blew up is fitted first, and its optimum starts the fit
+/// of the whole record. The first error is returned when that does not work either.
+fn continued(
+    rec: &Record,
+    segs: &[Segment],
+    p: &Prepared,
+    o: &FitOptions,
+    fit: &dyn Fn(&Prepared, &FitOptions) -> Result<FitResult, FitError>,
+) -> Result<FitResult, FitError> {
+    let first = fit(p, o);
+    let Err(FitError::Start(SolveError::BlowUp { t, .. })) = &first else { return first };
+    // the solver's time runs from the prepared record's start; the segment where it blew up
+    let t_abs = p.record.time.first().copied().unwrap_or(0.0) + t;
+    let cut = segs.iter().map(|s| s.t0).filter(|&t0| t0 <= t_abs && t0 > rec.time[0]).fold(f64::NAN, f64::max);
+    if !cut.is_finite() {
+        return first;
+    }
+    let (train, tsegs) = training(rec, segs, cut);
+    match prepare(&train, &tsegs, o).and_then(|pt| fit(&pt, o)) {
+        Ok(ft) => fit(p, &FitOptions { initial: ft.params.as_initial(), ..o.clone() }).or(first),
+        Err(_) => first,
+    }
+}
+
 enum Job {
     /// A candidate's fit on the whole record (and its held-out test when that waits for it).
     Candidate(Cause),
@@ -86,8 +114,9 @@ enum Done {
     Event(Option<EventFit>),
 }
 
-/// Runs the diagnosis on a record with its segments.
-pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
+/// The options of the diagnosis's fits (before the loading check and the break-timing mask):
+/// uniform weights, bins that search rather than replace, one thread per fit.
+pub fn diagnosis_fit_options(opts: &DiagnoseOptions) -> FitOptions {
     // uniform weights: the likelihood of noise of one σ everywhere, as lab noise is, so that
     // ΔBIC has its nominal calibration (with segment weights a free parameter acting only in
     // sparsely sampled segments would gain about mean(w²) per parameter on pure noise)
@@ -99,11 +128,12 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         b @ (BinMeans::Off | BinMeans::Search { .. }) => b,
     };
     // one thread per fit: the fits run as parallel jobs (the baseline's starts get `opts.threads`)
-    let o = FitOptions { weighting: Weighting::Uniform, bins, threads: 1, ..opts.fit.clone() };
-    if o.laws.len() != 1 {
-        return Err(FitError::Setup("the baseline has one state variable".into()));
-    }
-    // isolated spikes are bad samples, not friction: out before anything is fitted to them
+    FitOptions { weighting: Weighting::Uniform, bins, threads: 1, ..opts.fit.clone() }
+}
+
+/// The record without its isolated spikes (bad samples, not friction), its segments re-indexed,
+/// and the spikes' times.
+pub fn without_spikes(rec: &Record, segs: &[Segment]) -> (Record, Vec<Segment>, Vec<f64>) {
     let spikes = isolated_spikes(&rec.mu);
     let clean = rec.without(&spikes);
     let segs: Vec<Segment> = segs
@@ -115,6 +145,17 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         })
         .collect();
     let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
+    (clean, segs, spikes_removed)
+}
+
+/// Runs the diagnosis on a record with its segments.
+pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
+    let o = diagnosis_fit_options(opts);
+    if o.laws.len() != 1 {
+        return Err(FitError::Setup("the baseline has one state variable".into()));
+    }
+    // isolated spikes are bad samples, not friction: out before anything is fitted to them
+    let (clean, segs, spikes_removed) = without_spikes(rec, segs);
     let (rec, segs) = (&clean, &segs[..]);
     // each stage's and job's wall time on stderr (profiling only)
     let timing_log = opts.stage_times;

@@ -97,7 +97,9 @@ pub struct Prediction {
 /// [`super::FitResult::theta`]) from the record's start through its protocol (the segments of
 /// `p`, whatever loading the fit used) and on through `next`, and samples it at `times`
 /// (s after the end of the record's last segment). With `jac`, also ∂friction/∂θ, from one
-/// forward-sensitivity solve. σ stays at its last value after the record.
+/// forward-sensitivity solve. σ stays at its last value after the record unless `next`
+/// changes it, which it may only when the record's σ is constant (`next` then gives σ in units
+/// of the record's).
 pub fn predict(
     p: &Prepared,
     map: &ParamMap,
@@ -120,7 +122,9 @@ pub fn predict(
     segs.extend_from_slice(next);
     let added: f64 = next.iter().map(|s| s.duration().unwrap_or(0.0)).sum();
     let out: Vec<f64> = times.iter().map(|t| (end + t).clamp(end, end + added)).collect();
-    if p.normal_stress.is_some() {
+    // σ_ref: the record's first σ, or 1 when σ is constant (the appended segments' σ changes
+    // are then in units of the record's σ: only ratios of σ enter the model)
+    if p.normal_stress.is_some() || next.iter().any(Segment::changes_normal_stress) {
         model.normal_stress = Some(p.sigma_ref);
     }
     let mut problem = Problem::new(model, Loading::Segments(segs), p.v_init, 1.0);

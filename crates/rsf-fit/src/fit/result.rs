@@ -3,7 +3,7 @@
 use super::{BudgetHit, LoadingMode, ParamName, Weighting};
 use crate::lm::StopReason;
 use crate::segment::SegmentKind;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A parameter's value with its uncertainty.
@@ -36,8 +36,9 @@ pub struct SegmentRow {
     pub rms: f64,
 }
 
-/// Fitted model parameters in physical units.
-#[derive(Clone, Debug, Serialize)]
+/// Fitted model parameters in physical units (read back from a diagnosis's JSON by
+/// `rsf design --from`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Params {
     /// Steady-state friction at v0.
     pub mu0: f64,
@@ -58,14 +59,14 @@ pub struct Params {
     /// Law-specific parameters by name (e.g. `vc1`).
     pub law_params: BTreeMap<String, f64>,
     /// Per-segment friction offsets (segment 2 onward), when fitted.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mu0_offsets: Vec<f64>,
     /// Linker–Dieterich α_i per state, when the normal stress drives the model or α is fitted
     /// (empty otherwise).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alpha: Vec<f64>,
     /// σ_ref, MPa, the normal stress k is stated at, when the normal stress drives the model.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_stress: Option<f64>,
 }
 

@@ -423,16 +423,26 @@ def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, ba
 
 def design(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",
            loading: str = "protocol", v_range=(0.001, 300.0), max_hold: float = 1e4, max_time: float = 14400.0,
-           max_slip: float = 1000.0, credible: float = 10.0, draws: int = 12, sequences: bool = True,
-           seed: int = 1, threads: int = 0, name: str = "record", time=None, load_point=None, mu=None) -> Design:
+           max_slip: float = 1000.0, max_sigma_change: float = 0.0, credible: float = 10.0, draws: int = 12, sequences: bool = True,
+           seed: int = 1, threads: int = 0, name: str = "record", time=None, load_point=None, mu=None,
+           diagnosis: Union[Mapping[str, Any], str, os.PathLike, None] = None) -> Design:
     """Designs the next experiment as ``rsf design`` does: diagnoses the record, then ranks
-    velocity steps, holds and sequences of two appended at its end by how well they would tell
-    the credible models apart. A :class:`Design`; ``.to_pandas()`` is the ranking. The result
+    velocity steps, holds, normal-stress changes (``max_sigma_change`` > 0: the largest change
+    the machine can make, as a fraction of the record's σ) and sequences of two appended at its
+    end by how well they would tell the credible models apart. A :class:`Design`;
+    ``.to_pandas()`` is the ranking. ``diagnosis`` (a :class:`Diagnosis` of the same record with
+    the same options, its dict, or the path of its JSON) is designed from instead of diagnosing
+    again, as ``rsf design --from``. The result
     depends on the record, the options and ``seed`` only (not on ``threads``).
     """
     t, x, m, _ = _columns(record, time, load_point, mu, None)
     lo, hi = (float(v) for v in v_range)
+    if diagnosis is None or isinstance(diagnosis, Mapping):
+        diag = None if diagnosis is None else json.dumps(dict(diagnosis))
+    else:
+        with open(os.fspath(diagnosis), encoding="utf-8") as f:
+            diag = f.read()
     raw, html, toml = _rsf.design_json(t, x, m, stiffness, baseline, loading, (lo, hi), max_hold, max_time, max_slip,
-                                       credible, draws, sequences, seed, threads, name)
+                                       max_sigma_change, credible, draws, sequences, seed, threads, name, diag)
     return Design(json.loads(raw), html, toml)
 

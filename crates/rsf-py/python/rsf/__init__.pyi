@@ -167,6 +167,7 @@ def design(
     max_hold: float = ...,
     max_time: float = ...,
     max_slip: float = ...,
+    max_sigma_change: float = ...,
     credible: float = ...,
     draws: int = ...,
     sequences: bool = ...,
@@ -176,6 +177,7 @@ def design(
     time: Optional[npt.ArrayLike] = ...,
     load_point: Optional[npt.ArrayLike] = ...,
     mu: Optional[npt.ArrayLike] = ...,
+    diagnosis: Union[Mapping[str, Any], str, os.PathLike, None] = ...,
 ) -> Design: ...
 def fit_many(
     manifest_or_paths: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
