@@ -443,12 +443,22 @@ fn design_from_a_diagnosis_json() {
     let basalt = tmp("basalt_diag_for_from.json");
     let out = on_basalt("diagnose").arg("--json").arg(&basalt).output().unwrap();
     assert!(out.status.success());
-    let out = rsf().arg("design").arg(&hc).args(k).arg("--from").arg(&basalt).output().unwrap();
+    let out = rsf()
+        .arg("design")
+        .arg(&hc)
+        .args(["--stiffness", "0.0151", "--threads", "2", "--from"])
+        .arg(&basalt)
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         !out.status.success() && err.contains("basalt_diag_for_from.json") && err.contains("not the record"),
         "{err}"
     );
+    // the same record's diagnosis with another stiffness than it was made with
+    let out = rsf().arg("design").arg(&hc).args(["--stiffness", "0.003", "--from"]).arg(&diag).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("give the stiffness it was made with"), "{err}");
     // a cut file, named with its line and column
     let cut = tmp("hc_from_cut.json");
     let text = std::fs::read_to_string(&diag).unwrap();

@@ -348,17 +348,17 @@ impl Loading {
     }
 }
 
+/// A normal-stress sample and a piece boundary this many ulps of their time apart (64 ε |t|)
+/// coincide: a piece that short is a rounding apart, not a time an integrator can step across.
+const SLIVER_ULPS: f64 = 64.0;
+
 /// Splits constant-σ `pieces` at the vertices of the history `h` and gives each piece σ and its
 /// rate from `h`. Consecutive pieces continue each other's σ exactly (no spurious steps).
-/// Relative time (of the loading's span) within which a normal-stress sample and a piece
-/// boundary coincide.
-const SLIVER: f64 = 1e-9;
-
 fn split_by_history(pieces: &[Piece], h: &NormalStressRecord) -> Result<Vec<Piece>, String> {
     h.validate()?;
     let (t_start, t_end) = (pieces[0].t0, pieces[pieces.len() - 1].t1);
     let span = (t_end - t_start).abs().max(1.0);
-    if h.time[0] > t_start + SLIVER * span || h.time[h.time.len() - 1] < t_end - SLIVER * span {
+    if h.time[0] > t_start + 1e-9 * span || h.time[h.time.len() - 1] < t_end - 1e-9 * span {
         return Err(format!(
             "the normal-stress record spans [{}, {}] s but the loading [{t_start}, {t_end}] s",
             h.time[0],
@@ -375,7 +375,7 @@ fn split_by_history(pieces: &[Piece], h: &NormalStressRecord) -> Result<Vec<Piec
     // a sample of h within this of a piece's boundary starts or ends no piece of its own: a
     // sliver of a few ulps (a measured σ sampled at the detected break time, a rounding apart)
     // is a piece no integrator can step across
-    let tol = SLIVER * span;
+    let tol = SLIVER_ULPS * f64::EPSILON * t_start.abs().max(t_end.abs()).max(1.0);
     let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
     for p in pieces {
         let mut t0 = p.t0;

@@ -160,6 +160,11 @@ fn a_record_at_constant_normal_stress_asks_for_a_change_of_it() {
     let without = rsf_fit::design::design_from(&rec, &segs, &d, &o).unwrap();
     assert!(!without.models.iter().any(|m| m.name == "normal_stress_coupling"));
     assert!(!without.proposals.iter().any(|r| r.proposal.changes_normal_stress()));
+    // a machine whose σ range is below the smallest change proposed: no α model nothing tests
+    let tiny = DesignOptions { max_sigma_change: 0.02, ..o.clone() };
+    let t = rsf_fit::design::design_from(&rec, &segs, &d, &tiny).unwrap();
+    assert!(!t.models.iter().any(|m| m.name == "normal_stress_coupling"));
+    assert!(t.notes.iter().any(|n| n.contains("no change of normal stress fits")), "{:?}", t.notes);
     let g = rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { max_sigma_change: 0.2, ..o }).unwrap();
     let alpha = g.models.iter().find(|m| m.name == "normal_stress_coupling").expect("α must be credible");
     assert_eq!(alpha.params.alpha, vec![rsf_fit::design::ALPHA_PRIOR_MEAN]);
@@ -276,6 +281,11 @@ fn a_design_from_the_diagnosis_json_is_the_design_from_the_diagnosis() {
     let aging = DiagnoseOptions::new(FitOptions::new(vec![law_by_name("aging", |_| None).unwrap()], truth.stiffness));
     let err = rsf_fit::design::design_from_json(&rec, &segs, &json, &aging, &o).unwrap_err().to_string();
     assert!(err.contains("baseline"), "{err}");
+    // another stiffness (the warm start would carry the diagnosis's): refused
+    let soft =
+        DiagnoseOptions::new(FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.5 * truth.stiffness));
+    let err = rsf_fit::design::design_from_json(&rec, &segs, &json, &soft, &o).unwrap_err().to_string();
+    assert!(err.contains("stiffness"), "{err}");
     // a cut JSON: refused
     let err = rsf_fit::design::design_from_json(&rec, &segs, &json[..json.len() / 2], &dopts, &o).unwrap_err();
     assert!(err.to_string().contains("does not parse"), "{err}");

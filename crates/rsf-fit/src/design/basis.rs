@@ -148,6 +148,14 @@ impl Rebuilt {
                     .map_err(|e| FitError::Setup(format!("diagnosis JSON: {}: {e}", path.join("."))))?;
             }
         }
+        // the warm start carries k: a stiffness other than the one the diagnosis was made
+        // with would be fitted at one k and run at another
+        if !base_opts.fit_stiffness && (base_params.k - base_opts.stiffness).abs() > 1e-9 * base_opts.stiffness.abs() {
+            return Err(FitError::Setup(format!(
+                "the diagnosis was made with stiffness {}, these options give {}: give the stiffness it was made with",
+                base_params.k, base_opts.stiffness
+            )));
+        }
         let (clean, csegs, spikes) = without_spikes(rec, segs);
         let reported: Vec<f64> = v
             .get("spikes_removed")

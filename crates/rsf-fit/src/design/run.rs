@@ -8,7 +8,7 @@ use super::space::{Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, sing
 use super::{DesignOptions, SCORE_TIE, SETTLE_DCHI2};
 use crate::data::Record;
 use crate::diagnose::{Cause, DiagnoseOptions, Diagnosis, NoiseModel, diagnose, noisy, par_map};
-use crate::fit::{FitError, LoadingMode, driving_normal_stress, predict};
+use crate::fit::{FitError, LoadingMode, predict, prepare};
 use crate::segment::Segment;
 
 /// One model's raw predictions of one proposal.
@@ -79,13 +79,23 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
         );
     }
     let mut sources: Vec<Source> = models.into_iter().filter_map(|(info, fit, opts)| source(info, fit, opts)).collect();
-    // normal-stress changes: only on a record of constant σ (a measured history already makes
-    // α one of the diagnosis's candidates, and the changes would be stated against it)
-    let sigma = o.max_sigma_change > 0.0 && driving_normal_stress(rec, base_opts.normal_stress).is_none();
-    if o.max_sigma_change > 0.0 && !sigma {
+    // the slip scale of the proposals: the baseline's Dc (an added state's Dc may be
+    // unconstrained; the grid's 30 Dc reaches the slow states a record can show)
+    let dc_ref = d.baseline.params.dc.first().copied().unwrap_or(10.0).max(1e-3);
+    // normal-stress changes: only on a record of constant σ as the fits see it (a measured
+    // history already makes α one of the diagnosis's candidates, and the changes would be
+    // stated against it), and only when one fits the constraints
+    let constant = o.max_sigma_change > 0.0 && prepare(rec, segs, &base_opts)?.normal_stress.is_none();
+    let sigma = constant && singles(v_end, dc_ref, o, true).iter().any(Proposal::changes_normal_stress);
+    if o.max_sigma_change > 0.0 && !constant {
         notes.push(
             "the record's normal stress varies: α is among the diagnosis's candidates, and normal-stress changes are not proposed on top of a measured history".into(),
         );
+    } else if constant && !sigma {
+        notes.push(format!(
+            "no change of normal stress fits the constraints (the smallest is {} %, at the record's last velocity within --v-range): none is proposed",
+            super::space::SIGMA_CHANGES[0] * 100.0
+        ));
     }
     if sigma && !sources.iter().any(|s| s.info.cause == Cause::NormalStressCoupling) {
         match sources.first().map(|best| with_alpha(rec, segs, best)) {
@@ -114,9 +124,6 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
             notes,
         });
     }
-    // the slip scale of the proposals: the baseline's Dc (an added state's Dc may be
-    // unconstrained; the grid's 30 Dc reaches the slow states a record can show)
-    let dc_ref = d.baseline.params.dc.first().copied().unwrap_or(10.0).max(1e-3);
     let ctx = Scorer { models: &models, noise: &noise, dt_slide, dt_hold };
     let first = singles(v_end, dc_ref, o, sigma);
     let seq_guess = if o.sequences { SEQUENCE_SEEDS * (SEQUENCE_SEEDS - 1) } else { 0 };

@@ -83,8 +83,12 @@ fn continued(
 ) -> Result<FitResult, FitError> {
     let first = fit(p, o);
     let Err(FitError::Start(SolveError::BlowUp { t, .. })) = &first else { return first };
-    // the solver's time runs from the prepared record's start; the segment where it blew up
-    let t_abs = p.record.time.first().copied().unwrap_or(0.0) + t;
+    // the solver's time: the record's own under record loading, from the prepared record's
+    // start under protocol loading (`fit::forward`); the segment where it blew up
+    let t_abs = match o.loading {
+        LoadingMode::Record => *t,
+        LoadingMode::Protocol => p.record.time.first().copied().unwrap_or(0.0) + t,
+    };
     let cut = segs.iter().map(|s| s.t0).filter(|&t0| t0 <= t_abs && t0 > rec.time[0]).fold(f64::NAN, f64::max);
     if !cut.is_finite() {
         return first;
