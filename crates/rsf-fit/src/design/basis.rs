@@ -15,8 +15,9 @@ use serde_json::Value;
 /// baseline further away than this is refused.
 pub const REBUILD_LNL_TOLERANCE: f64 = 1.0;
 
-/// One candidate model of a diagnosis.
-pub struct BasisModel<'a> {
+/// What a diagnosis says of one candidate model, whatever it was read from.
+#[derive(Clone, Debug)]
+pub struct CandidateScore {
     /// The cause it stands for.
     pub cause: Cause,
     /// The extension in words.
@@ -27,6 +28,12 @@ pub struct BasisModel<'a> {
     pub delta_aic: f64,
     /// Why it cannot be designed for (a parameter at a bound, an effect below resolution).
     pub excluded: Option<String>,
+}
+
+/// One candidate model of a diagnosis.
+pub struct BasisModel<'a> {
+    /// What the diagnosis says of it.
+    pub score: CandidateScore,
     /// Its fit and the options it was made with (`None` when it has none or is excluded).
     pub fit: Option<(&'a FitResult, &'a FitOptions)>,
 }
@@ -64,11 +71,13 @@ impl<'a> Basis<'a> {
             .candidates
             .iter()
             .map(|c| BasisModel {
-                cause: c.cause,
-                extension: c.extension.clone(),
-                delta_bic: c.delta_bic,
-                delta_aic: c.delta_aic,
-                excluded: excluded(&c.at_bound, c.unresolved.as_ref()),
+                score: CandidateScore {
+                    cause: c.cause,
+                    extension: c.extension.clone(),
+                    delta_bic: c.delta_bic,
+                    delta_aic: c.delta_aic,
+                    excluded: excluded(&c.at_bound, c.unresolved.as_ref()),
+                },
                 fit: c.fit.as_ref().zip(c.options.as_ref()),
             })
             .collect();
@@ -78,11 +87,7 @@ impl<'a> Basis<'a> {
 
 /// A candidate rebuilt from JSON.
 struct RebuiltModel {
-    cause: Cause,
-    extension: String,
-    delta_bic: f64,
-    delta_aic: f64,
-    excluded: Option<String>,
+    score: CandidateScore,
     fit: Option<(FitResult, FitOptions)>,
 }
 
@@ -194,13 +199,12 @@ impl Rebuilt {
             let at_bound: Vec<String> =
                 c.get("at_bound").and_then(|a| serde_json::from_value(a.clone()).ok()).unwrap_or_default();
             let unresolved = c.get("unresolved").and_then(Value::as_str).map(str::to_string);
-            let m = RebuiltModel {
+            let m = CandidateScore {
                 cause,
                 extension: c.get("extension").and_then(Value::as_str).unwrap_or_default().to_string(),
                 delta_bic: num("delta_bic"),
                 delta_aic: num("delta_aic"),
                 excluded: excluded(&at_bound, unresolved.as_ref()),
-                fit: None,
             };
             match c.get("params").filter(|p| !p.is_null()) {
                 Some(p) if m.excluded.is_none() && m.delta_bic.is_finite() => {
@@ -222,13 +226,13 @@ impl Rebuilt {
                 }
                 _ => {}
             }
-            candidates.push(m);
+            candidates.push(RebuiltModel { score: m, fit: None });
         }
         let fits = par_map(&todo, dopts.threads, |(_, p, o)| refit(&clean, &csegs, o, p).map(|f| (f, o.clone())));
         for ((i, _, _), r) in todo.iter().zip(fits) {
             match r {
                 Ok(f) => candidates[*i].fit = Some(f),
-                Err(e) => notes.push(format!("{} left out: its refit failed: {e}", candidates[*i].cause)),
+                Err(e) => notes.push(format!("{} left out: its refit failed: {e}", candidates[*i].score.cause)),
             }
         }
         Ok(Rebuilt { cause, loading, baseline, baseline_options: base_opts, candidates, notes })
@@ -244,14 +248,7 @@ impl Rebuilt {
             candidates: self
                 .candidates
                 .iter()
-                .map(|c| BasisModel {
-                    cause: c.cause,
-                    extension: c.extension.clone(),
-                    delta_bic: c.delta_bic,
-                    delta_aic: c.delta_aic,
-                    excluded: c.excluded.clone(),
-                    fit: c.fit.as_ref().map(|(f, o)| (f, o)),
-                })
+                .map(|c| BasisModel { score: c.score.clone(), fit: c.fit.as_ref().map(|(f, o)| (f, o)) })
                 .collect(),
         }
     }

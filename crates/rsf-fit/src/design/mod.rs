@@ -45,7 +45,7 @@ mod result;
 mod run;
 pub mod space;
 
-pub use basis::{Basis, BasisModel, REBUILD_LNL_TOLERANCE, Rebuilt};
+pub use basis::{Basis, BasisModel, CandidateScore, REBUILD_LNL_TOLERANCE, Rebuilt};
 pub use protocol::protocol_toml;
 pub use result::{Design, DesignModel, PairScore, PredictedCurve, Ranked};
 pub use run::{design, design_basis, design_from, design_from_json};

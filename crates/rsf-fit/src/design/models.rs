@@ -65,12 +65,13 @@ pub(super) fn credible<'a>(
         0.0,
     )];
     let ln_n = (d.baseline.n.max(3) as f64).ln();
-    for c in &d.candidates {
+    for bm in &d.candidates {
+        let c = &bm.score;
         if let Some(why) = &c.excluded {
             notes.push(format!("{} left out: {why}", c.cause));
             continue;
         }
-        let Some((f, oc)) = c.fit else { continue };
+        let Some((f, oc)) = bm.fit else { continue };
         // the parameters it adds, from the two criteria: ΔBIC − ΔAIC = Δk (ln n − 2)
         let dk = ((c.delta_bic - c.delta_aic) / (ln_n - 2.0)).max(0.0);
         all.push((entry(c.cause.as_str().into(), c.cause, c.extension.clone(), c.delta_bic, f), f, oc.clone(), dk));
