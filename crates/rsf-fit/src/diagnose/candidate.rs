@@ -75,6 +75,9 @@ pub(super) struct Ctx<'a> {
     /// The baseline's slip rates, µm/s (the span of the Vc profile).
     pub(super) v_range: (f64, f64),
     pub(super) t_split: f64,
+    /// The record's σ drives the model and first changes in the held-out part: the held-out
+    /// test cannot judge the candidates (`heldout::sigma_first_changes_after`).
+    pub(super) sigma_held_out: bool,
     /// The baseline's held-out rms and training fit.
     pub(super) ho_base: Option<(f64, FitResult)>,
     /// The noise fitted to the baseline's training residuals (the extensions' training gains
@@ -114,7 +117,11 @@ impl Ctx<'_> {
     }
 
     /// The best-scoring variant of `cause` fitted to `pc` from `from` (scored against `base`),
-    /// with its residuals' fitted noise.
+    /// with its residuals' fitted noise. A mixture of laws starts from `from` and also from the
+    /// other law's optimum with its healing shared half and half: a mixture nests both pure
+    /// laws, and when the truth is one (a share of time-dependent healing), the other law's
+    /// optimum can lie far closer to it than the baseline's (a Slip-law baseline's a, b and
+    /// Dc bend to mimic the holds).
     pub(super) fn fit_cause(
         &self,
         pc_of: &dyn Fn(&FitOptions) -> Option<Prepared>,
@@ -124,22 +131,30 @@ impl Ctx<'_> {
         bn: &Noisy,
         threads: usize,
     ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy)> {
-        self.variants(cause)
-            .into_iter()
-            .filter_map(|(ext, o)| {
-                let pc = pc_of(&o)?;
-                let f = self.fit_best(&pc, &o, from, threads)?;
-                // a mixture has both states healing (b of one sign); b of opposite signs is a
-                // difference of laws, not a share of time-dependent healing
-                let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
-                let ok = !mixture || f.params.b[0] * f.params.b[1] > 0.0;
-                ok.then(|| {
-                    let en = noisy(&f);
-                    (scores(base, bn, &f, &en).0, (ext, o, pc, f, en))
-                })
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, v)| v)
+        let mut single: Option<Params> = None;
+        let mut fitted = vec![];
+        for (ext, o) in self.variants(cause) {
+            let Some(pc) = pc_of(&o) else { continue };
+            let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
+            let mut starts = vec![from.clone()];
+            if mixture {
+                starts.extend(single.as_ref().map(shared_healing));
+            }
+            // a mixture has both states healing (b of one sign); b of opposite signs is a
+            // difference of laws, not a share of time-dependent healing
+            let best = starts
+                .iter()
+                .filter_map(|s| self.fit_best(&pc, &o, s, threads))
+                .filter(|f| !mixture || f.params.b[0] * f.params.b[1] > 0.0)
+                .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood));
+            let Some(f) = best else { continue };
+            if cause == Cause::EvolutionLaw && o.laws.len() == 1 {
+                single = Some(f.params.clone());
+            }
+            let en = noisy(&f);
+            fitted.push((scores(base, bn, &f, &en).0, (ext, o, pc, f, en)));
+        }
+        fitted.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, v)| v)
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -214,7 +229,8 @@ impl Ctx<'_> {
             heldout_rms_before: self.ho_base.as_ref().map(|h| h.0),
             heldout_rms_after: ho.as_ref().map(|h| h.0),
             heldout_training_gain: training_gain,
-            heldout_uninformative: dbic < BLIND_DECISIVE && self.training_blind(cause, &f, training_gain),
+            heldout_uninformative: dbic < BLIND_DECISIVE
+                && (self.sigma_held_out || self.training_blind(cause, &f, training_gain)),
             drift_share_after: nf.model.drift_share,
             effect: effect_of(&[cause], &f),
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
@@ -408,6 +424,14 @@ pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], leve
                 && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
         })
         .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+}
+
+/// A mixture's start from the other law's optimum `p` (one state): the baseline's law and the
+/// other law each with half of its healing b, sharing its Dc (the mixture's states are in the
+/// order of `cause_variants`: the baseline's law first).
+fn shared_healing(p: &Params) -> Params {
+    let (b, dc) = (p.b[0], p.dc[0]);
+    Params { b: vec![0.5 * b, 0.5 * b], dc: vec![dc, dc], ..p.clone() }
 }
 
 /// The ways to apply `cause` to the options `o` of a baseline of `base_law`: its extension, and

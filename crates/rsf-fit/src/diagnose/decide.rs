@@ -9,9 +9,9 @@ use crate::fit::{FitResult, Params};
 /// multiple of the baseline's.
 const HELDOUT_TOLERANCE: f64 = 1.05;
 
-/// A candidate whose held-out prediction is worse but whose training part is blind to it
-/// (`Candidate::heldout_uninformative`) is named only on an argument that does not use the
-/// full-record ΔBIC: the null calibration, with noise drawn from the record's own fitted
+/// A candidate whose held-out prediction is worse but whose training part is blind to it, or
+/// never saw the change of σ the held-out part holds (`Candidate::heldout_uninformative`), is
+/// named only on an argument that does not use the full-record ΔBIC: the null calibration, with noise drawn from the record's own fitted
 /// spectrum (1/f drift included), at this fraction of the false-alarm level — one check is
 /// missing, so the remaining one must be ten times as sure. (A spurious cut-off absorbing
 /// drift in the holds of a 1/f-noise record had a held-out prediction 9× worse and passed the
@@ -144,6 +144,11 @@ pub(super) fn verdict(
                 match (c.heldout_rms_before, c.heldout_rms_after) {
                     (Some(b), Some(a)) => format!(", held-out rms {b:.2e} → {a:.2e}"),
                     _ => String::new(),
+                } + if c.heldout_uninformative && !heldout_ok(c.heldout_rms_before, c.heldout_rms_after) {
+                    " (the held-out test cannot judge it: its training part cannot see the effect, or never saw \
+                     the change of σ the held-out part holds)"
+                } else {
+                    ""
                 },
                 match &c.null {
                     Some(n) => format!(

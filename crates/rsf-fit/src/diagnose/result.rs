@@ -69,8 +69,9 @@ pub struct Candidate {
     pub heldout_training_gain: Option<f64>,
     /// The held-out test cannot judge this candidate: its training part is blind to the effect
     /// by construction (a cut-off whose fitted Vc lies far below every slip rate of the training
-    /// part) and shows no decisive gain, while the full record shows ten times the decisive
-    /// gain. Its worse prediction then does not set it aside.
+    /// part) and shows no decisive gain, or it never saw a change of σ that the held-out part
+    /// holds; while the full record shows ten times the decisive gain. Its worse prediction
+    /// then does not set it aside (the null calibration judges it, at a stricter level).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub heldout_uninformative: bool,
     /// Share of the extended fit's residual variance in slow drift (its own noise model): a

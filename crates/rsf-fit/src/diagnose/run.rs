@@ -6,7 +6,7 @@ use super::cause::Cause;
 use super::decide::{heldout_ok, ineligible, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
-use super::heldout::{heldout, split_time, training};
+use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
 use super::parallel::par_map;
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
 use super::starts::slip_rate_range;
@@ -192,6 +192,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let mut ev = evidence(&base, &base_noise);
     ev.k_reload_slope = reload_stiffness(&p);
     let t_split = split_time(&p.record, &p.segments);
+    let sigma_held_out = sigma_first_changes_after(p.normal_stress.as_ref(), t_split);
     // the baseline's held-out fit first: every extension's held-out fit starts from it
     let ho_base = if opts.heldout {
         let oh = FitOptions { mu0_per_segment: false, ..base_opts.clone() };
@@ -200,7 +201,11 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             &p.record,
             &p.segments,
             &oh,
-            &|pt: &Prepared, ot: &FitOptions| fit(pt, &FitOptions { threads, ..ot.clone() }).ok(),
+            // cold, as the baseline on the whole record: continued past a late run-away
+            &|pt: &Prepared, ot: &FitOptions| {
+                let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
+                continued(&pt.record, &pt.segments, pt, ot, &fit).ok()
+            },
             t_split,
         )
     } else {
@@ -229,6 +234,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ev,
         v_range,
         t_split,
+        sigma_held_out,
         ho_base_noise: ho_base.as_ref().map(|(_, f)| noisy(f)),
         ho_base,
         lp_noise,
