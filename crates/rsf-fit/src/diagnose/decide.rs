@@ -11,7 +11,8 @@ const HELDOUT_TOLERANCE: f64 = 1.05;
 
 /// A candidate whose held-out prediction is worse but whose training part is blind to it, or
 /// never saw the change of σ the held-out part holds (`Candidate::heldout_uninformative`), is
-/// named only on an argument that does not use the full-record ΔBIC: the null calibration, with noise drawn from the record's own fitted
+/// named only on an argument that does not use the full-record ΔBIC: the null calibration,
+/// with noise drawn from the record's own fitted
 /// spectrum (1/f drift included), at this fraction of the false-alarm level — one check is
 /// missing, so the remaining one must be ten times as sure. (A spurious cut-off absorbing
 /// drift in the holds of a 1/f-noise record had a held-out prediction 9× worse and passed the
@@ -71,8 +72,8 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
 /// The held-out test passes when the extension predicts no more than 5% worse; it fails when
 /// the extension's training fit fails where the baseline's did not (an extension the training
 /// part cannot pin down is the overfitting the test is there to catch). A candidate whose
-/// training part is blind to its effect by construction (`Candidate::heldout_uninformative`)
-/// is not judged by it.
+/// training part is blind to its effect by construction, or never saw the change of σ the
+/// held-out part holds (`Candidate::heldout_uninformative`), is not judged by it.
 pub(super) fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
     match (before, after) {
         (Some(b), Some(a)) => a <= HELDOUT_TOLERANCE * b,
