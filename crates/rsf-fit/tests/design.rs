@@ -45,6 +45,20 @@ fn run(truth: &Model, protocol: &[(f64, f64, f64)], sigma: f64, seed: u64) -> (D
     (d, g)
 }
 
+/// The friction of `model` at `times` (s after the record's end): one direct solve (Rodas4 at
+/// rtol 1e-11, another path than the prediction's sensitivity solve) of the detected protocol
+/// of `p` and the appended segments `next`.
+fn direct_solve(model: Model, p: &rsf_fit::fit::Prepared, next: &[rsf_core::Segment], times: &[f64]) -> Vec<f64> {
+    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
+    let mut all: Vec<rsf_core::Segment> =
+        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
+    all.extend_from_slice(next);
+    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
+    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
+    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
+    solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap().mu
+}
+
 #[test]
 fn aging_against_slip_on_small_steps_asks_for_a_large_step_down_or_a_hold() {
     let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
@@ -84,7 +98,6 @@ fn a_cutoff_below_every_slip_rate_asks_for_a_long_hold() {
 #[test]
 fn a_prediction_is_the_whole_protocol_solved_at_once_with_exact_derivatives() {
     use rsf_fit::fit::{fit, parameter_map, predict, prepare};
-    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
     let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
     let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 5).unwrap();
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
@@ -99,14 +112,8 @@ fn a_prediction_is_the_whole_protocol_solved_at_once_with_exact_derivatives() {
     // one direct solve of the detected protocol and the appended segments
     let pr = &f.params;
     let model = Model::new(pr.mu0, pr.v0, pr.a, pr.k).with_state(StateVariable::new(Aging, pr.b[0], pr.dc[0]));
-    let mut all: Vec<rsf_core::Segment> =
-        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
-    all.extend_from_slice(&next);
-    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
-    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
-    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
-    let direct = solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap();
-    let worst = got.mu.iter().zip(&direct.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let direct = direct_solve(model, &p, &next, &times);
+    let worst = got.mu.iter().zip(&direct).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-7, "prediction vs direct solve: {worst:e}");
     // the derivatives against central differences of the prediction
     let m = got.m;
@@ -193,7 +200,6 @@ fn a_record_at_constant_normal_stress_asks_for_a_change_of_it() {
 #[test]
 fn a_prediction_through_a_change_of_normal_stress_is_exact() {
     use rsf_fit::fit::{AlphaFit, fit, parameter_map, predict, prepare};
-    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
     let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(rsf_laws::Slip, 0.013, 10.0));
     let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 7).unwrap();
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
@@ -222,14 +228,8 @@ fn a_prediction_through_a_change_of_normal_stress_is_exact() {
     let mut model = Model::new(pr.mu0, pr.v0, pr.a, pr.k)
         .with_state(StateVariable::new(rsf_laws::Slip, pr.b[0], pr.dc[0]).with_alpha(alpha));
     model.normal_stress = Some(1.0);
-    let mut all: Vec<rsf_core::Segment> =
-        pa.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
-    all.extend_from_slice(&next);
-    let end: f64 = pa.segments.iter().map(|s| s.t1 - s.t0).sum();
-    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), pa.v_init, 1.0);
-    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
-    let direct = solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap();
-    let worst = got.mu.iter().zip(&direct.mu).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let direct = direct_solve(model, &pa, &next, &times);
+    let worst = got.mu.iter().zip(&direct).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-7, "prediction vs direct solve: {worst:e}");
     // the change of σ shows: friction moves by more than 0.01 across the first ramp
     assert!((got.mu[3] - got.mu[0]).abs() > 0.01, "{} {}", got.mu[0], got.mu[3]);
