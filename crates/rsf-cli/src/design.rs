@@ -131,13 +131,20 @@ pub fn run(a: &DesignArgs) -> Result<()> {
     out += &format!("{}\n", design.summary);
     if !design.proposals.is_empty() {
         out += &format!(
-            "{:>3}  {:>9} {:>9} {:>6} {:>9} {:>8}  proposal\n",
-            "#", "time_s", "slip_um", "score", "lead_Δχ²", "score/h"
+            "{:>3}  {:>9} {:>9} {:>6} {:>9} {:>8} {:>9}  proposal\n",
+            "#", "time_s", "slip_um", "score", "lead_Δχ²", "score/h", "peak_V"
         );
         let row = |label: String, r: &rsf_fit::design::Ranked| {
             format!(
-                "{label:>3}  {:>9.0} {:>9.1} {:>6.2} {:>9.1} {:>8.2}  {}\n",
-                r.machine_time_s, r.slip_um, r.score, r.lead_pair_dchi2, r.score_per_hour, r.description
+                "{label:>3}  {:>9.0} {:>9.1} {:>6.2} {:>9.1} {:>8.2} {:>9.3e}  {}{}\n",
+                r.machine_time_s,
+                r.slip_um,
+                r.score,
+                r.lead_pair_dchi2,
+                r.score_per_hour,
+                r.peak_slip_rate,
+                if r.stick_slip { "[stick-slip] " } else { "" },
+                r.description
             )
         };
         for r in design.proposals.iter().take(a.top) {

@@ -290,3 +290,68 @@ fn a_design_from_the_diagnosis_json_is_the_design_from_the_diagnosis() {
     let err = rsf_fit::design::design_from_json(&rec, &segs, &json[..json.len() / 2], &dopts, &o).unwrap_err();
     assert!(err.to_string().contains("does not parse"), "{err}");
 }
+
+/// The largest slip rate of `model` through the appended segments `next` (after the detected
+/// protocol of `p`), µm/s: one direct solve (Rodas4 at rtol 1e-10) watching every step.
+fn direct_peak(model: Model, p: &rsf_fit::fit::Prepared, next: &[rsf_core::Segment]) -> f64 {
+    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
+    let mut all: Vec<rsf_core::Segment> =
+        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
+    all.extend_from_slice(next);
+    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
+    let added: f64 = next.iter().map(|s| s.duration().unwrap()).sum();
+    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
+    prob.output = OutputTimes::Times(vec![end, end + added]);
+    prob.watch.peak_slip_rate = true;
+    match solve(&prob, &Rodas4::new(1e-10, 1e-14)) {
+        Ok(s) => s.peak_slip_rate[1],
+        Err(rsf_solvers::SolveError::BlowUp { .. }) => f64::INFINITY,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// A Slip-law sample on a machine three times as stiff as critical is stable through the record's
+/// small steps but stick-slips on the reslide after a hold of 1000 s or more. The design ranks
+/// the proposals in which a credible model runs away last, and the truth itself (solved
+/// directly) stays stable through every other.
+#[test]
+fn a_hold_the_sample_would_stick_slip_after_is_not_proposed() {
+    use rsf_fit::fit::prepare;
+    let (a, b, dc) = (0.010, 0.013, 10.0);
+    let k = 3.0 * (b - a) / dc;
+    let truth = Model::new(0.6, 1.0, a, k).with_state(StateVariable::new(rsf_laws::Slip, b, dc));
+    let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 8).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], k);
+    let dopts = DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit.clone()) };
+    let o = DesignOptions { threads: 2, max_time: 4.0 * 3600.0, max_hold: 1e4, ..Default::default() };
+    let (_, g) = design(&rec, &segs, &dopts, &o).unwrap();
+    let flagged: Vec<&rsf_fit::design::Ranked> = g.proposals.iter().filter(|r| r.stick_slip).collect();
+    for r in g.proposals.iter().take(3).chain(flagged.iter().copied().take(3)) {
+        println!("{:>3} stick-slip {} peak {:.3e} µm/s  {}", r.rank, r.stick_slip, r.peak_slip_rate, r.description);
+    }
+    // the truth, solved directly, runs away on the reslide after a hold of 1000 s (the
+    // baseline's reslide of 10 Dc at the record's last velocity)…
+    let p = prepare(&rec, &segs, &fit).unwrap();
+    let v_fast = |r: &rsf_fit::design::Ranked| {
+        r.segments.iter().map(|s| s.0).chain(segs.iter().map(|s| s.v)).fold(0.0, f64::max)
+    };
+    let hold = [rsf_core::Segment::for_duration(0.0, 1000.0), rsf_core::Segment::for_duration(1.0, 100.0)];
+    let peak = direct_peak(truth.clone(), &p, &hold);
+    assert!(peak > 10.0 * 10f64.sqrt(), "{peak}");
+    // …and no proposal the truth runs away in ranks among the safe ones (those the fit itself
+    // cannot be run through are left out, and said so)
+    for r in g.proposals.iter().filter(|r| !r.stick_slip) {
+        let peak = direct_peak(truth.clone(), &p, &r.proposal.protocol());
+        assert!(peak < 10.0 * v_fast(r), "{}: the truth reaches {peak:.3e} µm/s", r.description);
+    }
+    assert!(g.notes.iter().any(|n| n.contains("left out")), "{:?}", g.notes);
+    assert!(!flagged.is_empty(), "no proposal flagged");
+    // flagged ones rank after every other, and the best is not one
+    let first_flagged = flagged[0].rank;
+    assert!(g.proposals[first_flagged - 1..].iter().all(|r| r.stick_slip));
+    assert!(!g.proposals[0].stick_slip);
+    assert!(g.notes.iter().any(|n| n.contains("runs away")), "{:?}", g.notes);
+    // the filter is cautious: it follows the models' draws, which run away sooner than the truth
+    assert!(flagged.iter().any(|r| r.kind == "hold"));
+}

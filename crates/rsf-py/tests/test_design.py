@@ -49,6 +49,10 @@ def test_design_equals_the_cli_and_gives_a_dataframe():
     df = py.to_pandas()
     assert isinstance(df, pd.DataFrame) and list(df["rank"][:3]) == [1, 2, 3]
     assert any(c.startswith("dchi2:") for c in df.columns)
+    # the stick-slip screen: a peak slip rate per proposal, and those that run away rank last
+    assert (df["peak_slip_rate"] > 0).all()
+    flags = list(df["stick_slip"])
+    assert flags == sorted(flags)
 
 
 def test_design_from_a_diagnosis_and_with_normal_stress_changes():

@@ -69,6 +69,12 @@ pub struct Ranked {
     pub lead_pair_dchi2: f64,
     /// Every pair.
     pub pairs: Vec<PairScore>,
+    /// The largest slip rate a credible model reaches in it, at its fit or at a draw, µm/s.
+    pub peak_slip_rate: f64,
+    /// Whether a credible model, at its fit or a draw, runs away in a step or hold of it
+    /// (stick-slip: faster than [`super::STICK_SLIP_FACTOR`] × the fastest load point). Such
+    /// proposals rank after all others.
+    pub stick_slip: bool,
 }
 
 /// A model's predicted friction through the best proposal.

@@ -4,18 +4,24 @@ use super::basis::{Basis, Rebuilt};
 use super::criterion::{Whitened, expected_lack_of_fit};
 use super::models::{Credible, Source, credible, prepare_model, source, with_alpha};
 use super::result::{Design, PairScore, PredictedCurve, Ranked};
-use super::space::{Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, singles, standard};
-use super::{DesignOptions, SCORE_TIE, SETTLE_DCHI2};
+use super::space::{Primitive, Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, singles, standard};
+use super::{DesignOptions, SCORE_TIE, SETTLE_DCHI2, STICK_SLIP_FACTOR};
 use crate::data::Record;
 use crate::diagnose::{Cause, DiagnoseOptions, Diagnosis, NoiseModel, diagnose, noisy, par_map};
-use crate::fit::{FitError, LoadingMode, predict, prepare};
+use crate::fit::{FitError, LoadingMode, predict, prepare, record_span};
 use crate::segment::Segment;
+use rsf_solvers::SolveError;
 
 /// One model's raw predictions of one proposal.
 struct Raw {
     central: Vec<f64>,
     jac: Vec<f64>,
     draws: Vec<Vec<f64>>,
+    /// Per new time, the largest slip rate since the previous one at the fit or any draw, µm/s.
+    peak: Vec<f64>,
+    /// When a draw's slip rate first blew up (past the solver's limit,
+    /// [`rsf_solvers::MAX_SLIP_RATE`]), s after the record's end.
+    blew_up: Option<f64>,
 }
 
 /// Diagnoses the record, then designs the next segment ([`design_from`]).
@@ -124,7 +130,9 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
             notes,
         });
     }
-    let ctx = Scorer { models: &models, noise: &noise, dt_slide, dt_hold };
+    // the record's fastest load-point velocity, µm/s
+    let v_fast = segs.iter().map(|s| s.v).fold(v_end, f64::max);
+    let ctx = Scorer { models: &models, v_fast, noise: &noise, dt_slide, dt_hold };
     let first = singles(v_end, dc_ref, o, sigma);
     let seq_guess = if o.sequences { SEQUENCE_SEEDS * (SEQUENCE_SEEDS - 1) } else { 0 };
     let total = first.len() + seq_guess;
@@ -135,6 +143,7 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
             pr(k.min(total), total, what);
         }
     };
+    let mut tried = first.len();
     let mut scored: Vec<Ranked> = par_map(&first, o.threads, |p| {
         let r = ctx.score(p, v_end).map(|(r, _)| r);
         tick("proposal");
@@ -148,8 +157,10 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
     }
     rank(&mut scored);
     if o.sequences {
-        let seeds: Vec<Proposal> = scored.iter().take(SEQUENCE_SEEDS).map(|r| r.proposal.clone()).collect();
+        let seeds: Vec<Proposal> =
+            scored.iter().filter(|r| !r.stick_slip).take(SEQUENCE_SEEDS).map(|r| r.proposal.clone()).collect();
         let seqs = sequences(&seeds, o);
+        tried += seqs.len();
         scored.extend(
             par_map(&seqs, o.threads, |p| {
                 let r = ctx.score(p, v_end).map(|(r, _)| r);
@@ -160,6 +171,28 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
             .flatten(),
         );
         rank(&mut scored);
+    }
+    if tried > scored.len() {
+        notes.push(format!(
+            "{} of {tried} proposals left out: a credible model's fit cannot be run through them (a run-away, or the solver's step budget)",
+            tried - scored.len()
+        ));
+    }
+    let runaway = scored.iter().filter(|r| r.stick_slip).count();
+    if runaway > 0 {
+        notes.push(format!(
+            "{runaway} of {} proposals rank last: a credible model, at its fit or a draw, runs away in them (a slip rate above {STICK_SLIP_FACTOR}× the fastest load point: stick-slip)",
+            scored.len()
+        ));
+    }
+    let top = &scored[0];
+    let top_fast = top.segments.iter().map(|s| s.0).fold(v_fast, f64::max);
+    if !top.stick_slip && top.peak_slip_rate > STICK_SLIP_FACTOR * top_fast {
+        notes.push(format!(
+            "the best proposal changes σ, and the slip that forces in a credible model reaches {:.3e} µm/s ({:.0}× the fastest load point): forced slip is not screened as stick-slip, but the sample may slip dynamically there",
+            top.peak_slip_rate,
+            top.peak_slip_rate / top_fast
+        ));
     }
     let best = scored[0].proposal.clone();
     let curves = ctx.score(&best, v_end).map(|(_, c)| c).unwrap_or_default();
@@ -203,6 +236,8 @@ fn intervals(rec: &Record, segs: &[Segment]) -> (f64, f64) {
 
 struct Scorer<'a> {
     models: &'a [Credible],
+    /// The record's fastest load-point velocity, µm/s.
+    v_fast: f64,
     noise: &'a NoiseModel,
     dt_slide: f64,
     dt_hold: f64,
@@ -211,12 +246,51 @@ struct Scorer<'a> {
 impl Scorer<'_> {
     fn predict(&self, m: &Credible, next: &[rsf_core::Segment], s: &Sampling) -> Option<Raw> {
         let c = predict(&m.p, &m.map, &m.opts, &m.theta, next, &s.times, true).ok()?;
-        let draws = m
-            .draws
-            .iter()
-            .filter_map(|th| predict(&m.p, &m.map, &m.opts, th, next, &s.times, false).ok())
-            .map(|p| p.mu);
-        Some(Raw { central: c.mu, jac: c.jac, draws: draws.collect() })
+        // the fit's own peak slip rate from a solve without derivatives
+        let mut peak = predict(&m.p, &m.map, &m.opts, &m.theta, next, &s.times, false).ok()?.peak_slip_rate;
+        let (mut draws, mut blew_up) = (Vec::with_capacity(m.draws.len()), None::<f64>);
+        for th in &m.draws {
+            match predict(&m.p, &m.map, &m.opts, th, next, &s.times, false) {
+                Ok(d) => {
+                    for (p, q) in peak.iter_mut().zip(&d.peak_slip_rate) {
+                        *p = p.max(*q);
+                    }
+                    draws.push(d.mu);
+                }
+                // in the appended segments (a draw that runs away within the record itself
+                // stands for nothing, as below)
+                Err(SolveError::BlowUp { t, .. }) if t >= record_span(&m.p) => {
+                    let at = t - record_span(&m.p);
+                    blew_up = Some(blew_up.map_or(at, |b| b.min(at)));
+                }
+                // a draw the solver cannot run otherwise stands for nothing: left out
+                Err(_) => {}
+            }
+        }
+        Some(Raw { central: c.mu, jac: c.jac, draws, peak, blew_up })
+    }
+
+    /// The largest slip rate of any model at any draw through `prop` (sampled at `times`), µm/s,
+    /// and whether some model runs away in a step or a hold of it: faster than
+    /// [`STICK_SLIP_FACTOR`] × the fastest load point of the record and the proposal, or past
+    /// the solver's limit. The slip a change of σ forces is not judged (see
+    /// [`STICK_SLIP_FACTOR`]).
+    fn stick_slip(&self, prop: &Proposal, times: &[f64], raws: &[Raw]) -> (f64, bool) {
+        let v_fast = prop.segments().iter().map(|s| s.0).fold(self.v_fast, f64::max);
+        let judged = |p: &Primitive| match p {
+            Primitive::Step { .. } | Primitive::Hold { .. } => true,
+            Primitive::NormalStress { .. } => false,
+        };
+        let limits: Vec<f64> = prop
+            .parts_at(times)
+            .into_iter()
+            .map(|p| if judged(p) { STICK_SLIP_FACTOR * v_fast } else { f64::INFINITY })
+            .collect();
+        let peak = raws.iter().flat_map(|r| r.peak.iter().copied()).fold(0.0, f64::max);
+        let over = raws.iter().any(|r| {
+            r.blew_up.is_some_and(|t| judged(prop.parts_at(&[t])[0])) || r.peak.iter().zip(&limits).any(|(p, l)| p > l)
+        });
+        (peak, over)
     }
 
     /// The proposal scored, with the models' curves.
@@ -224,6 +298,7 @@ impl Scorer<'_> {
         let next = prop.protocol();
         let s = sampling(prop, self.dt_slide, self.dt_hold);
         let raws: Vec<Raw> = self.models.iter().map(|m| self.predict(m, &next, &s)).collect::<Option<_>>()?;
+        let (peak_slip_rate, stick_slip) = self.stick_slip(prop, &s.times, &raws);
         let curves = raws
             .iter()
             .zip(self.models)
@@ -277,20 +352,27 @@ impl Scorer<'_> {
                 score_per_hour: score / (t / 3600.0).max(1e-12),
                 lead_pair_dchi2: pairs[0].dchi2,
                 pairs,
+                peak_slip_rate,
+                stick_slip,
             },
             curves,
         ))
     }
 }
 
-/// Best first: of the proposals left, those within [`SCORE_TIE`] (pairs) of the best score
-/// left are a tie, and the one of the shortest machine time (then the higher score) comes next;
-/// ranks set.
+/// Best first, those in which a model runs away ([`Ranked::stick_slip`]) after all others: of
+/// the proposals left, those within [`SCORE_TIE`] (pairs) of the best score left are a tie, and
+/// the one of the shortest machine time (then the higher score) comes next; ranks set.
 fn rank(v: &mut Vec<Ranked>) {
     let mut left = std::mem::take(v);
-    left.sort_by(|a, b| b.score.total_cmp(&a.score).then(a.machine_time_s.total_cmp(&b.machine_time_s)));
-    while let Some(top) = left.first().map(|r| r.score) {
-        let tied = left.iter().take_while(|r| r.score >= top - SCORE_TIE).count().max(1);
+    left.sort_by(|a, b| {
+        a.stick_slip
+            .cmp(&b.stick_slip)
+            .then(b.score.total_cmp(&a.score))
+            .then(a.machine_time_s.total_cmp(&b.machine_time_s))
+    });
+    while let Some((top, class)) = left.first().map(|r| (r.score, r.stick_slip)) {
+        let tied = left.iter().take_while(|r| r.stick_slip == class && r.score >= top - SCORE_TIE).count().max(1);
         let next = (0..tied)
             .min_by(|&a, &b| left[a].machine_time_s.total_cmp(&left[b].machine_time_s).then(a.cmp(&b)))
             .unwrap_or(0);
@@ -303,7 +385,14 @@ fn rank(v: &mut Vec<Ranked>) {
 
 fn summarize(best: &Ranked, standard: Option<&Ranked>, models: &[Credible]) -> String {
     let lead = format!("{} vs {}", models[0].info.name, models[1].info.name);
-    let mut s = format!(
+    let mut s = String::new();
+    if best.stick_slip {
+        s += &format!(
+            "every proposal risks stick-slip (a credible model reaches {:.3e} µm/s in the best); ",
+            best.peak_slip_rate
+        );
+    }
+    s += &format!(
         "next: {} ({:.2} h of machine time): expected to settle {:.1} of {} model pairs; {lead}: expected Δχ² {:.0}",
         best.description,
         best.machine_time_s / 3600.0,
@@ -323,7 +412,6 @@ fn summarize(best: &Ranked, standard: Option<&Ranked>, models: &[Credible]) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::Primitive;
 
     fn ranked(score: f64, machine_time_s: f64, p: Primitive) -> Ranked {
         Ranked {
@@ -340,6 +428,8 @@ mod tests {
             score_per_hour: 0.0,
             lead_pair_dchi2: 0.0,
             pairs: vec![],
+            peak_slip_rate: 0.0,
+            stick_slip: false,
         }
     }
 
@@ -360,5 +450,17 @@ mod tests {
         let times: Vec<f64> = v.iter().map(|r| r.machine_time_s).collect();
         assert_eq!(times, vec![10263.0, 11170.0, 50.0, 100.0, 10.0]);
         assert_eq!(v.iter().map(|r| r.rank).collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
+    }
+
+    /// A proposal in which a model runs away ranks after every other, whatever its score, and
+    /// does not tie with a safe one.
+    #[test]
+    fn a_proposal_that_runs_away_ranks_last() {
+        let h = Primitive::Hold { hold_s: 1e4, v: 1.0, slip: 10.0 };
+        let risky = |score, t| Ranked { stick_slip: true, ..ranked(score, t, h) };
+        let mut v = vec![risky(20.0, 100.0), ranked(3.0, 500.0, h), risky(19.99, 10.0), ranked(2.99, 50.0, h)];
+        rank(&mut v);
+        let got: Vec<(bool, f64)> = v.iter().map(|r| (r.stick_slip, r.machine_time_s)).collect();
+        assert_eq!(got, vec![(false, 50.0), (false, 500.0), (true, 10.0), (true, 100.0)]);
     }
 }

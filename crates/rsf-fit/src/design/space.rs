@@ -174,6 +174,26 @@ impl Proposal {
             .collect()
     }
 
+    /// The primitive each of `times` (s after the record's end, increasing) falls in: the one
+    /// whose span (start, end] holds it; past the end, the last.
+    pub fn parts_at(&self, times: &[f64]) -> Vec<&Primitive> {
+        let mut ends = self.parts.iter().scan(0.0, |t, p| {
+            *t += p.segments().iter().map(|s| s.1).sum::<f64>();
+            Some(*t)
+        });
+        let (mut k, mut end) = (0, ends.next().unwrap_or(f64::INFINITY));
+        times
+            .iter()
+            .map(|&t| {
+                while t > end && k + 1 < self.parts.len() {
+                    k += 1;
+                    end = ends.next().unwrap_or(f64::INFINITY);
+                }
+                &self.parts[k]
+            })
+            .collect()
+    }
+
     /// Machine time, s.
     pub fn machine_time(&self) -> f64 {
         self.segments().iter().map(|s| s.1).sum()
@@ -418,6 +438,17 @@ mod tests {
         assert!((rates[0] - 0.2).abs() < 1e-12 && rates[1..].iter().all(|&r| r == 0.0), "{rates:?}");
         // machines without σ control (the default) get none
         assert!(!singles(1.0, 10.0, &DesignOptions::default(), true).iter().any(Proposal::changes_normal_stress));
+    }
+
+    #[test]
+    fn each_time_falls_in_its_primitive() {
+        let h = Primitive::Hold { hold_s: 100.0, v: 1.0, slip: 50.0 };
+        let st = Primitive::Step { v: 10.0, slip: 100.0 };
+        let p = Proposal { parts: vec![h, st] };
+        // the hold spans (0, 150] s, the step (150, 160]
+        let at = p.parts_at(&[1.0, 100.0, 150.0, 150.5, 160.0, 170.0]);
+        assert_eq!(at, vec![&h, &h, &h, &st, &st, &st]);
+        assert_eq!(Proposal { parts: vec![st] }.parts_at(&[0.5, 10.0]), vec![&st, &st]);
     }
 
     #[test]

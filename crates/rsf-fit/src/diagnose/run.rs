@@ -69,11 +69,20 @@ fn baseline(
     Ok((o.clone(), p, base, None))
 }
 
+/// Steps of the continuation in the size of a record's changes of σ ([`continued`]): the
+/// record's σ history scaled about its first value by these fractions in turn, each fit
+/// starting from the one before. A quarter of a 20 % drop is the 5 % drop that a start fitted
+/// to the record before it follows; each step after it a further quarter.
+const SIGMA_CONTINUATION: [f64; 3] = [0.25, 0.5, 0.75];
+
 /// The cold fit of `p` (`rec` with its segments `segs`), continued when every start blows up
 /// at some time t: a start far from the optimum can be driven to run away by a large change
 /// late in the record (a drop of σ forces fast slip, which a poor start cannot follow). The
 /// record before the segment where it blew up is fitted first, and its optimum starts the fit
-/// of the whole record. The first error is returned when that does not work either.
+/// of the whole record. When that runs away too and the record's σ varies, the changes of σ
+/// are grown to their measured size in steps ([`SIGMA_CONTINUATION`]), each fit starting from
+/// the optimum of the one before: the parameters follow the data as the forced slip grows. The
+/// first error is returned when that does not work either.
 fn continued(
     rec: &Record,
     segs: &[Segment],
@@ -94,10 +103,25 @@ fn continued(
         return first;
     }
     let (train, tsegs) = training(rec, segs, cut);
-    match prepare(&train, &tsegs, o).and_then(|pt| fit(&pt, o)) {
-        Ok(ft) => fit(p, &FitOptions { initial: ft.params.as_initial(), ..o.clone() }).or(first),
-        Err(_) => first,
+    let Ok(ft) = prepare(&train, &tsegs, o).and_then(|pt| fit(&pt, o)) else { return first };
+    let from = |f: &FitResult| FitOptions { initial: f.params.as_initial(), ..o.clone() };
+    let whole = fit(p, &from(&ft));
+    if whole.is_ok() || rec.normal_stress.is_empty() {
+        return whole.or(first);
     }
+    let mut at = ft;
+    for lambda in SIGMA_CONTINUATION {
+        let mut scaled = rec.clone();
+        let s0 = rec.normal_stress[0];
+        for s in &mut scaled.normal_stress {
+            *s = s0 + lambda * (*s - s0);
+        }
+        match prepare(&scaled, segs, o).and_then(|ps| fit(&ps, &from(&at))) {
+            Ok(f) => at = f,
+            Err(_) => return first,
+        }
+    }
+    fit(p, &from(&at)).or(first)
 }
 
 enum Job {

@@ -80,6 +80,12 @@ fn with_sensitivities(
     Ok(Evaluated { model_mu, raw_j, steps })
 }
 
+/// Where [`predict`]'s appended segments start in its solver's time, s: the sum of the record's
+/// segment durations (a run's times, such as a blow-up's, are counted from the record's start).
+pub fn record_span(p: &Prepared) -> f64 {
+    p.segments.iter().map(|s| (s.t1 - s.t0).max(1e-9)).sum()
+}
+
 /// A fitted model run on past the record: friction at new sample times after the next
 /// protocol segments are appended to the record's own (the forward model of `rsf design`).
 #[derive(Clone, Debug)]
@@ -91,6 +97,9 @@ pub struct Prediction {
     pub jac: Vec<f64>,
     /// Free parameters.
     pub m: usize,
+    /// The largest slip rate since the previous new time (the first: since the record's end),
+    /// µm/s, from every integrator step; empty when the derivatives were asked for.
+    pub peak_slip_rate: Vec<f64>,
 }
 
 /// Runs the model of `map` at θ (free parameters, transformed scale, as
@@ -99,7 +108,8 @@ pub struct Prediction {
 /// (s after the end of the record's last segment). With `jac`, also ∂friction/∂θ, from one
 /// forward-sensitivity solve. σ stays at its last value after the record unless `next`
 /// changes it, which it may only when the record's σ is constant (`next` then gives σ in units
-/// of the record's).
+/// of the record's). Without `jac`, also the peak slip rate between the new times
+/// ([`Prediction::peak_slip_rate`]).
 pub fn predict(
     p: &Prepared,
     map: &ParamMap,
@@ -118,7 +128,7 @@ pub fn predict(
     let t0 = p.record.time[0];
     let mut segs: Vec<Segment> =
         p.segments.iter().map(|s| Segment::for_duration(s.v, (s.t1 - s.t0).max(1e-9))).collect();
-    let end: f64 = p.segments.iter().map(|s| (s.t1 - s.t0).max(1e-9)).sum();
+    let end = record_span(p);
     segs.extend_from_slice(next);
     let added: f64 = next.iter().map(|s| s.duration().unwrap_or(0.0)).sum();
     let out: Vec<f64> = times.iter().map(|t| (end + t).clamp(end, end + added)).collect();
@@ -144,20 +154,34 @@ pub fn predict(
     let last_seg = p.segments.len() - 1;
     if jac {
         let e = with_sensitivities(&problem, map, theta, &full, opts.rtol, &|_| last_seg)?;
-        return Ok(Prediction { mu: e.model_mu, jac: e.raw_j, m: map.free.len() });
+        return Ok(Prediction { mu: e.model_mu, jac: e.raw_j, m: map.free.len(), peak_slip_rate: vec![] });
     }
     let alg = rsf_solvers::AutoDopri5 {
         max_steps: FIT_MAX_STEPS,
         ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
     };
-    let (mut mu, _) = rsf_solvers::solve_friction(&problem, &alg)?;
+    // a row more at the record's end (unless the first new time is there), so that the first
+    // new time's peak covers only the appended segments
+    let extra = usize::from(times.first().is_none_or(|&t| t > 0.0));
+    if let OutputTimes::Times(t) = &mut problem.output {
+        if extra == 1 {
+            t.insert(0, end);
+        }
+    }
+    problem.watch.peak_slip_rate = true;
+    let s = rsf_solvers::solve(&problem, &alg)?;
+    let mut peak_slip_rate = s.peak_slip_rate[extra..].to_vec();
+    if extra == 0 {
+        peak_slip_rate[0] = s.slip_rate[0];
+    }
+    let mut mu = s.mu[extra..].to_vec();
     let np = n_params(map.n_states);
     if last_seg > 0 && map.slots.len() > np {
         for x in &mut mu {
             *x += full[np + last_seg - 1];
         }
     }
-    Ok(Prediction { mu, jac: vec![], m: map.free.len() })
+    Ok(Prediction { mu, jac: vec![], m: map.free.len(), peak_slip_rate })
 }
 
 /// Model friction at the used samples for free parameters θ (no sensitivities): the forward

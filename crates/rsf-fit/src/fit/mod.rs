@@ -28,7 +28,7 @@ mod prepare;
 mod result;
 
 pub use bins::{BIN_ABOVE, BIN_FRACTION, BinMeans, Binning};
-pub use forward::{Prediction, model_curve, predict};
+pub use forward::{Prediction, model_curve, predict, record_span};
 pub use lsq::fit;
 pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,

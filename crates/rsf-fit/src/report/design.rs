@@ -79,7 +79,11 @@ pub fn design_html(d: &Design, name: &str) -> String {
     body += &table("", &["model", "<l>extension", "ΔBIC", "draws"], &rows);
     if !d.proposals.is_empty() {
         body += "<h2>Ranking</h2>\n<p class=\"sub\">score: model pairs expected to be settled, Σ (1 − exp(−Δχ²/40)); \
-                 Δχ² of the lead pair (the best model and the runner-up); per hour of machine time.</p>\n";
+                 Δχ² of the lead pair (the best model and the runner-up); per hour of machine time; the fastest slip \
+                 rate a credible model reaches (µm/s; stick-slip: one runs away, ranked last).</p>\n";
+        let peak = |r: &crate::design::Ranked| {
+            format!("{:.3e}{}", r.peak_slip_rate, if r.stick_slip { " stick-slip" } else { "" })
+        };
         let mut rows: Vec<(String, Vec<String>)> = d
             .proposals
             .iter()
@@ -95,6 +99,7 @@ pub fn design_html(d: &Design, name: &str) -> String {
                         format!("{:.2}", r.score),
                         format!("{:.1}", r.lead_pair_dchi2),
                         format!("{:.2}", r.score_per_hour),
+                        peak(r),
                     ],
                 )
             })
@@ -110,10 +115,15 @@ pub fn design_html(d: &Design, name: &str) -> String {
                     format!("{:.2}", s.score),
                     format!("{:.1}", s.lead_pair_dchi2),
                     format!("{:.2}", s.score_per_hour),
+                    peak(s),
                 ],
             ));
         }
-        body += &table("wide", &["#", "<l>proposal", "time (s)", "slip (µm)", "score", "lead Δχ²", "score/h"], &rows);
+        body += &table(
+            "wide",
+            &["#", "<l>proposal", "time (s)", "slip (µm)", "score", "lead Δχ²", "score/h", "peak V (µm/s)"],
+            &rows,
+        );
     }
     format!(
         "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\

@@ -245,12 +245,15 @@ class Design(_AttrDict):
     def to_pandas(self):
         """The ranking as a pandas DataFrame, one row per proposal, best first: ``rank``,
         ``kind``, ``description``, ``machine_time_s``, ``slip_um``, ``samples``, ``score``,
-        ``score_per_hour``, ``lead_pair_dchi2`` and one ``dchi2:A|B`` column per model pair."""
+        ``score_per_hour``, ``lead_pair_dchi2``, ``peak_slip_rate`` (µm/s, the fastest a credible
+        model slips in it), ``stick_slip`` (a model runs away in it: ranked last) and one
+        ``dchi2:A|B`` column per model pair."""
         import pandas as pd  # optional dependency
         rows = []
         for r in self["proposals"]:
             row = {k: r[k] for k in ("rank", "kind", "description", "machine_time_s", "slip_um", "samples",
-                                     "score", "score_per_hour", "lead_pair_dchi2")}
+                                     "score", "score_per_hour", "lead_pair_dchi2", "peak_slip_rate",
+                                     "stick_slip")}
             row.update({f"dchi2:{p['a']}|{p['b']}": p["dchi2"] for p in r["pairs"]})
             rows.append(row)
         return pd.DataFrame(rows)
