@@ -355,3 +355,32 @@ fn a_hold_the_sample_would_stick_slip_after_is_not_proposed() {
     // the filter is cautious: it follows the models' draws, which run away sooner than the truth
     assert!(flagged.iter().any(|r| r.kind == "hold"));
 }
+
+/// A prediction sampled at the very end of the appended segments is made whatever the
+/// durations: the record's span plus the proposal's, summed apart, can exceed the loading's
+/// end (the same durations summed in order) by an ulp, and such a last time was refused ("output
+/// times … lie outside the loading"), which silently dropped a proposal in seven of the hold
+/// lengths and reslides below.
+#[test]
+fn a_prediction_reaches_the_end_of_any_appended_segments() {
+    use rsf_fit::fit::{fit, parameter_map, predict, prepare};
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::new(Aging, 0.013, 10.0));
+    let rec = record(&truth, 1.0, &small_steps(), Noise { sigma: 2e-4, tau: 0.0 }, 9).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let o = FitOptions::new(vec![law_by_name("aging", |_| None).unwrap()], truth.stiffness);
+    let p = prepare(&rec, &segs, &o).unwrap();
+    let f = fit(&p, &o).unwrap();
+    let map = parameter_map(&p, &o).unwrap();
+    let mut refused = vec![];
+    for hold in rsf_fit::design::space::HOLD_TIMES {
+        for slip in [3.0, 10.0, 30.0, 23.028002709052355, 76.76000903017452] {
+            let reslide = slip / 1.13;
+            let next = [rsf_core::Segment::for_duration(0.0, hold), rsf_core::Segment::for_duration(1.13, reslide)];
+            let times = [0.5 * hold, hold + reslide];
+            if let Err(e) = predict(&p, &map, &o, &f.theta, &next, &times, false) {
+                refused.push(format!("hold {hold} s, reslide {reslide} s: {e}"));
+            }
+        }
+    }
+    assert!(refused.is_empty(), "{refused:#?}");
+}

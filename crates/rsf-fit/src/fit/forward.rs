@@ -130,8 +130,11 @@ pub fn predict(
         p.segments.iter().map(|s| Segment::for_duration(s.v, (s.t1 - s.t0).max(1e-9))).collect();
     let end = record_span(p);
     segs.extend_from_slice(next);
-    let added: f64 = next.iter().map(|s| s.duration().unwrap_or(0.0)).sum();
-    let out: Vec<f64> = times.iter().map(|t| (end + t).clamp(end, end + added)).collect();
+    // the loading's end as the solver sums it, segment by segment in order (the record's span
+    // plus the appended durations, summed apart, may exceed it by an ulp, and a last output
+    // time past it is refused)
+    let t_end = segs.iter().fold(0.0, |t, s| t + s.duration().unwrap_or(0.0));
+    let out: Vec<f64> = times.iter().map(|t| (end + t).clamp(end, t_end)).collect();
     // σ_ref: the record's first σ, or 1 when σ is constant (the appended segments' σ changes
     // are then in units of the record's σ: only ratios of σ enter the model)
     if p.normal_stress.is_some() || next.iter().any(Segment::changes_normal_stress) {
@@ -143,9 +146,8 @@ pub fn predict(
         // held at its last value through the appended segments
         let mut h = h.shifted(-t0);
         if let (Some(&tl), Some(&sl)) = (h.time.last(), h.sigma.last()) {
-            let t_end = end + added + 1.0;
-            if t_end > tl {
-                h.time.push(t_end);
+            if t_end + 1.0 > tl {
+                h.time.push(t_end + 1.0);
                 h.sigma.push(sl);
             }
         }
