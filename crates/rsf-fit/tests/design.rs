@@ -359,7 +359,7 @@ fn a_hold_the_sample_would_stick_slip_after_is_not_proposed() {
 /// A prediction sampled at the very end of the appended segments is made whatever the
 /// durations: the record's span plus the proposal's, summed apart, can exceed the loading's
 /// end (the same durations summed in order) by an ulp, and such a last time was refused ("output
-/// times … lie outside the loading"), which silently dropped a proposal in seven of the hold
+/// times … lie outside the loading"), which silently dropped the proposal: two of the 35 hold
 /// lengths and reslides below.
 #[test]
 fn a_prediction_reaches_the_end_of_any_appended_segments() {
