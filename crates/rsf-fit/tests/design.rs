@@ -45,18 +45,29 @@ fn run(truth: &Model, protocol: &[(f64, f64, f64)], sigma: f64, seed: u64) -> (D
     (d, g)
 }
 
+/// One problem of the whole protocol: the detected segments of `p` and the appended `next`,
+/// run by `model` from the record's start; with the record's end and the loading's end in the
+/// solver's time (s), the latter summed segment by segment as the solver does.
+fn whole_protocol(
+    model: Model,
+    p: &rsf_fit::fit::Prepared,
+    next: &[rsf_core::Segment],
+) -> (rsf_solvers::Problem, f64, f64) {
+    let mut all: Vec<rsf_core::Segment> =
+        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
+    let end = all.iter().fold(0.0, |t, s| t + s.duration().unwrap());
+    all.extend_from_slice(next);
+    let t_end = all.iter().fold(0.0, |t, s| t + s.duration().unwrap());
+    (rsf_solvers::Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0), end, t_end)
+}
+
 /// The friction of `model` at `times` (s after the record's end): one direct solve (Rodas4 at
 /// rtol 1e-11, another path than the prediction's sensitivity solve) of the detected protocol
 /// of `p` and the appended segments `next`.
 fn direct_solve(model: Model, p: &rsf_fit::fit::Prepared, next: &[rsf_core::Segment], times: &[f64]) -> Vec<f64> {
-    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
-    let mut all: Vec<rsf_core::Segment> =
-        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
-    all.extend_from_slice(next);
-    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
-    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
-    prob.output = OutputTimes::Times(times.iter().map(|t| end + t).collect());
-    solve(&prob, &Rodas4::new(1e-11, 1e-14)).unwrap().mu
+    let (mut prob, end, _) = whole_protocol(model, p, next);
+    prob.output = rsf_solvers::OutputTimes::Times(times.iter().map(|t| end + t).collect());
+    rsf_solvers::solve(&prob, &rsf_solvers::Rodas4::new(1e-11, 1e-14)).unwrap().mu
 }
 
 #[test]
@@ -294,16 +305,10 @@ fn a_design_from_the_diagnosis_json_is_the_design_from_the_diagnosis() {
 /// The largest slip rate of `model` through the appended segments `next` (after the detected
 /// protocol of `p`), µm/s: one direct solve (Rodas4 at rtol 1e-10) watching every step.
 fn direct_peak(model: Model, p: &rsf_fit::fit::Prepared, next: &[rsf_core::Segment]) -> f64 {
-    use rsf_solvers::{OutputTimes, Problem, Rodas4, solve};
-    let mut all: Vec<rsf_core::Segment> =
-        p.segments.iter().map(|s| rsf_core::Segment::for_duration(s.v, s.t1 - s.t0)).collect();
-    all.extend_from_slice(next);
-    let end: f64 = p.segments.iter().map(|s| s.t1 - s.t0).sum();
-    let added: f64 = next.iter().map(|s| s.duration().unwrap()).sum();
-    let mut prob = Problem::new(model, rsf_core::Loading::Segments(all), p.v_init, 1.0);
-    prob.output = OutputTimes::Times(vec![end, end + added]);
+    let (mut prob, end, t_end) = whole_protocol(model, p, next);
+    prob.output = rsf_solvers::OutputTimes::Times(vec![end, t_end]);
     prob.watch.peak_slip_rate = true;
-    match solve(&prob, &Rodas4::new(1e-10, 1e-14)) {
+    match rsf_solvers::solve(&prob, &rsf_solvers::Rodas4::new(1e-10, 1e-14)) {
         Ok(s) => s.peak_slip_rate[1],
         Err(rsf_solvers::SolveError::BlowUp { .. }) => f64::INFINITY,
         Err(e) => panic!("{e}"),

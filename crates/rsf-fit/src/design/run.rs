@@ -249,6 +249,7 @@ impl Scorer<'_> {
         // the fit's own peak slip rate from a solve without derivatives
         let mut peak = predict(&m.p, &m.map, &m.opts, &m.theta, next, &s.times, false).ok()?.peak_slip_rate;
         let (mut draws, mut blew_up) = (Vec::with_capacity(m.draws.len()), None::<f64>);
+        let span = record_span(&m.p);
         for th in &m.draws {
             match predict(&m.p, &m.map, &m.opts, th, next, &s.times, false) {
                 Ok(d) => {
@@ -259,8 +260,8 @@ impl Scorer<'_> {
                 }
                 // in the appended segments (a draw that runs away within the record itself
                 // stands for nothing, as below)
-                Err(SolveError::BlowUp { t, .. }) if t >= record_span(&m.p) => {
-                    let at = t - record_span(&m.p);
+                Err(SolveError::BlowUp { t, .. }) if t >= span => {
+                    let at = t - span;
                     blew_up = Some(blew_up.map_or(at, |b| b.min(at)));
                 }
                 // a draw the solver cannot run otherwise stands for nothing: left out
