@@ -6,12 +6,16 @@ only (numpy + scipy solve_ivp Radau, rtol 1e-10); shares no code with rsf.
 
     python3 benches/detection/generate.py --out DIR [--seed 1] [--quick]
     python3 benches/detection/generate.py --check ../shared/reference   # integrator check
+    python3 benches/detection/generate.py --out DIR --outside [--seed 38] [--outside-families A,B]
+    python3 benches/detection/generate.py --outside-tests tests/data/outside
 
 Units: time s, displacement um, velocity um/s, theta s, k 1/um, friction dimensionless.
     mu     = mu0 + a ln(V/V0) + sum_i b_i ln(V0 theta_i/Dc_i) + g delta
     dmu/dt = k (V_lp(t) - V)
     aging: dtheta/dt = 1 - O   slip: -O ln O   kato-tullis: exp(-V/Vc) - O ln O   (O = V theta/Dc)
 Integrated as y = (ln V, ln theta_i, delta), restarted exactly at every load-point break.
+--outside: one state under PRZ, Nagata, a one-state Aging/Slip mixture, power-law aging, or the
+Slip law with a rate-dependent direct effect (see the section "outside the menu" below).
 """
 import argparse
 import sys
@@ -46,8 +50,11 @@ class Unstable(Exception):
 
 # ---------------------------------------------------------------- physics
 def steady_ln_theta(law, v, dc, vc):
-    """ln theta at steady state: O = 1, except Kato-Tullis: O ln O = exp(-V/Vc), O > 1."""
+    """ln theta at steady state: O = 1, except Kato-Tullis: O ln O = exp(-V/Vc), O > 1, and
+    PRZ: theta = 2 Dc/V."""
     omega = 1.0
+    if law == "prz":
+        omega = 2.0
     if law == "kato-tullis":
         c = math.exp(-v / vc)
         omega = math.exp(lambertw(c).real) if c > 0 else 1.0   # O ln O = c  <=>  ln O = W(c)
@@ -94,8 +101,9 @@ def rhs_and_jac(p, vlp):
     return f, jac
 
 
-def simulate(p, seg_t, seg_v, ts):
-    """Integrate through segments [seg_t[j], seg_t[j+1]) at V_lp = seg_v[j]; states at times ts."""
+def simulate(p, seg_t, seg_v, ts, model=rhs_and_jac):
+    """Integrate through segments [seg_t[j], seg_t[j+1]) at V_lp = seg_v[j]; states at times ts.
+    `model(p, vlp)` gives the right-hand side and Jacobian (rhs_and_jac_outside for --outside)."""
     v0, n = seg_v[0], len(p["b"])
     y = np.array([math.log(v0)] + [steady_ln_theta(l, v0, dc, p.get("vc"))
                                    for l, dc in zip(p["laws"], p["dc"])] + [0.0])
@@ -109,7 +117,7 @@ def simulate(p, seg_t, seg_v, ts):
         lo = np.searchsorted(ts, t0, "left")
         hi = len(ts) if j == len(seg_v) - 1 else np.searchsorted(ts, t1, "left")
         te = np.r_[ts[lo:hi], t1] if hi == lo or ts[hi - 1] < t1 else ts[lo:hi]
-        f, jac = rhs_and_jac(p, vlp)
+        f, jac = model(p, vlp)
         sol = solve_ivp(f, (t0, t1), y, method="Radau", jac=jac, rtol=RTOL, atol=atol,
                         t_eval=te, events=blowup)
         if sol.status != 0:
@@ -133,8 +141,9 @@ def load_point(seg_t, seg_v, t):
 
 
 # ---------------------------------------------------------------- protocols
-def protocol_rock(rng, max_hold):
-    """Velocity steps of 0.5-3.5 decades around 1 um/s, then slide-hold-slides at the end."""
+def rock_steps(rng):
+    """A run-in at 1 um/s, then steps 1 <-> 3.16 um/s and 1 <-> 2-3 velocities 0.5-3.5 decades
+    lower, in random order, each followed by a return to 1 um/s."""
     vb, segs = 1.0, [(rng.uniform(20, 40), 1.0, "slide")]
     downs = sorted(rng.choice(np.arange(0.5, 3.51, 0.5), size=rng.integers(2, 4), replace=False))
     partners = [vb * 10 ** 0.5] + [vb * 10 ** -d for d in downs]
@@ -142,15 +151,24 @@ def protocol_rock(rng, max_hold):
     for v in (partners[i] for i in order):
         segs.append((min(rng.uniform(20, 40) / v, rng.uniform(800, 2000)), v, "slide"))
         segs.append((rng.uniform(30, 60) / vb, vb, "slide"))
+    return segs, "rock steps 1<->" + ",".join(f"{partners[i]:.3g}" for i in order) + " um/s"
+
+
+def rock_holds(rng, max_hold):
+    """2-4 holds from the ladder 10-1000 s below max_hold, then max_hold itself."""
     ladder = [10, 30, 100, 300, 1000, 3000, 10000]
     short = [h for h in ladder if h <= min(max_hold, 1000) and h < max_hold]
-    holds = sorted(rng.choice(short, size=min(len(short), rng.integers(2, 5)), replace=False).tolist()
-                   + [max_hold])
+    return sorted(rng.choice(short, size=min(len(short), rng.integers(2, 5)), replace=False).tolist()
+                  + [max_hold])
+
+
+def protocol_rock(rng, max_hold):
+    """Velocity steps of 0.5-3.5 decades around 1 um/s, then slide-hold-slides at the end."""
+    segs, label = rock_steps(rng)
+    holds = rock_holds(rng, max_hold)
     for h in holds:
-        segs += [(float(h), 0.0, "hold"), (rng.uniform(40, 60) / vb, vb, "slide")]
-    label = ("rock steps 1<->" + ",".join(f"{partners[i]:.3g}" for i in order)
-             + " um/s; holds " + ",".join(f"{h:g}" for h in holds) + " s")
-    return segs, label
+        segs += [(float(h), 0.0, "hold"), (rng.uniform(40, 60), 1.0, "slide")]
+    return segs, label + "; holds " + ",".join(f"{h:g}" for h in holds) + " s"
 
 
 def protocol_gouge(rng, dc, force_300):
@@ -425,6 +443,291 @@ def issue21_case(path, seed=21):
     print(f"{path}: {len(ts)} rows, {label}, k {p['k']}")
 
 
+# ---------------------------------------------------------------- outside the menu (--outside)
+# Records whose truth is none of the diagnosis's one-step alternatives: other state laws, a
+# rate-dependent direct effect. One state variable each, y = (ln V, ln theta, delta).
+#   prz:          dtheta/dt = 1 - (V theta/(2 Dc))^2, friction term b ln(V0 theta/(2 Dc))
+#   nagata:       dtheta/dt = 1 - V theta/Dc - (c/b) theta dmu/dt, dmu/dt = k (V_lp - V)
+#   mix1:         dtheta/dt = w (1 - O) + (1 - w)(-O ln O)        (one state, O = V theta/Dc)
+#   power_aging:  dtheta/dt = 1 - O^n
+#   rate_a:       Slip law; the direct effect's local slope dmu/dlnV = a + a1 ln(V/V0), i.e.
+#                 mu = mu0 + a ln(V/V0) + (a1/2) ln(V/V0)^2 + b ln(V0 theta/Dc)
+LN2 = math.log(2.0)
+#: --outside: a draw whose slip rate exceeds 2x the fastest load point (incipient stick-slip: these
+#: laws collapse their state far faster than Aging/Slip after steps up and holds) is drawn again
+OUTSIDE_VMAX_FACTOR = 2.0
+#: family: (truth law, law parameter, its ladder: 12 records each)
+OUTSIDE = {
+    "prz_steps": ("prz", None, [None] * 12),
+    "prz_holds": ("prz", None, [None] * 12),
+    "nagata": ("nagata", "c", [0.5, 1.0, 1.5, 2.0, 2.5, 3.0] * 2),
+    "mix1": ("mix1", "w", [0.15, 0.3, 0.5, 0.7] * 3),
+    "power_aging": ("power_aging", "n", [1.3, 1.4, 1.5, 1.6, 1.7, 1.8] * 2),
+    "rate_a": ("rate_a", "a_span", [0.15, 0.25, 0.35, 0.5] * 3),
+}
+
+
+def outside_rates(p, vlp):
+    """d ln(theta)/dt of the one state and its partials in x = ln V and s = ln theta."""
+    law, b, dc, k = p["laws"][0], p["b"][0], p["dc"][0], p["k"]
+    ldc = math.log(dc)
+
+    def rates(x, s):
+        v, e = math.exp(x), math.exp(-s)
+        vd = v / dc
+        if law == "aging":
+            return e - vd, -vd, -e
+        if law == "slip":
+            u = x + s - ldc
+            return -vd * u, -vd * (u + 1.0), -vd
+        if law == "prz":                                   # (V theta/(2 Dc))^2 = exp(2 (x + s - ln 2Dc))
+            w2 = math.exp(2.0 * (x + s - ldc - LN2))
+            return e * (1.0 - w2), -2.0 * e * w2, -e * (1.0 + w2)
+        if law == "power_aging":
+            n = p["n"]
+            on = math.exp(n * (x + s - ldc))
+            return e * (1.0 - on), -n * e * on, -e * (1.0 + (n - 1.0) * on)
+        if law == "mix1":
+            w, u = p["w"], x + s - ldc
+            return (w * (e - vd) + (1.0 - w) * (-vd * u),
+                    -w * vd - (1.0 - w) * vd * (u + 1.0), -w * e - (1.0 - w) * vd)
+        if law == "nagata":                                # dmu/dt = k (V_lp - V) is explicit
+            cb = p["c"] / b
+            return e - vd - cb * k * (vlp - v), -vd + cb * k * v, -e
+        raise ValueError(law)
+
+    return rates
+
+
+def rhs_and_jac_outside(p, vlp):
+    """Right-hand side and analytic Jacobian of y = (x = ln V, s = ln theta, delta) for one state
+    under an --outside law. From dmu/dt = k (V_lp - V) = a_loc(x) dx/dt + b ds/dt with
+    a_loc = a + a1 (x - ln V0): dx/dt = (k (V_lp - V) - b ds/dt)/a_loc. Under Nagata ds/dt itself
+    holds -(c/b) dmu/dt; since dmu/dt is the spring's rate the relation is explicit:
+    a dx/dt = (1 + c) k (V_lp - V) - b (1/theta - V/Dc)."""
+    a, a1, k, b = p["a"], p.get("a1", 0.0), p["k"], p["b"][0]
+    lv0 = math.log(p["v0"])
+    rates = outside_rates(p, vlp)
+
+    def f(t, y):
+        v = math.exp(y[0])
+        r = rates(y[0], y[1])[0]
+        return np.array([(k * (vlp - v) - b * r) / (a + a1 * (y[0] - lv0)), r, v])
+
+    def jac(t, y):
+        v = math.exp(y[0])
+        r, rx, rs = rates(y[0], y[1])
+        ap = a + a1 * (y[0] - lv0)
+        xd = (k * (vlp - v) - b * r) / ap
+        return np.array([[(-k * v - b * rx - a1 * xd) / ap, -b * rs / ap, 0.0],
+                         [rx, rs, 0.0], [v, 0.0, 0.0]])
+
+    return f, jac
+
+
+def friction_outside(p, Y):
+    X = Y[:, 0] - math.log(p["v0"])
+    ldc = math.log(p["dc"][0]) + (LN2 if p["laws"][0] == "prz" else 0.0)
+    return (p["mu0"] + p["a"] * X + 0.5 * p.get("a1", 0.0) * X ** 2
+            + p["b"][0] * (math.log(p["v0"]) + Y[:, 1] - ldc))
+
+
+def protocol_outside(rng, holds):
+    """The bare-rock steps, then slide-hold-slides: holds None (steps only), "short" (2-3 of 10,
+    30, 100 s) or a longest hold in s (with 2-4 shorter ones, as protocol_rock)."""
+    segs, label = rock_steps(rng)
+    if holds is None:
+        return segs, label + "; no holds"
+    hs = (sorted(rng.choice([10, 30, 100], size=rng.integers(2, 4), replace=False).tolist())
+          if holds == "short" else rock_holds(rng, holds))
+    for h in hs:
+        segs += [(float(h), 0.0, "hold"), (rng.uniform(40, 60), 1.0, "slide")]
+    return segs, label + "; holds " + ",".join(f"{h:g}" for h in hs) + " s"
+
+
+def outside_size(family, value):
+    """The label of the law parameter (magnitude only: rate_a's sign is in `effect`)."""
+    law, name, _ = OUTSIDE[family]
+    return law if name is None else f"{name.replace('_', ' ')} {value:g}"
+
+
+def plan_outside(rng, families):
+    """Family, law parameter, material and feature flags of every record (flags balanced within
+    each family, 1/f noise in half), in a blind (shuffled) order."""
+    specs = []
+    for fam in families:
+        _, _, ladder = OUTSIDE[fam]
+        n, period = len(ladder), len(set(ladder))
+        flags = {f: rng.permutation(np.arange(n) < (n + 1) // 2) for f in FEATURES + ["pink_noise"]}
+        for i, value in enumerate(ladder):
+            vw = (i + (i // period if period > 1 else 0)) % 2 == 0   # each value meets both materials
+            material = "bare_rock" if vw else "rock_vs"
+            specs.append(dict(family=fam, value=value, material=material,
+                              features=[material] + [f for f in FEATURES + ["pink_noise"] if flags[f][i]]))
+    order = rng.permutation(len(specs))
+    return [specs[i] for i in order]
+
+
+def sample_outside_truth(rng, spec, sign, dc_lo, dc_hi, x_span):
+    """Material (velocity weakening or strengthening, rock ranges), the law's parameter and a
+    stable machine: k >= 8 kc, kc the law's linear critical stiffness."""
+    law, _, _ = OUTSIDE[spec["family"]]
+    val = spec["value"]
+    for _ in range(500):
+        dc = math.exp(rng.uniform(math.log(dc_lo), math.log(dc_hi)))
+        a = rng.uniform(0.006, 0.012) if spec["material"] == "bare_rock" else rng.uniform(0.008, 0.014)
+        b = a + rng.uniform(0.001, 0.004) if spec["material"] == "bare_rock" else a - rng.uniform(0.001, 0.004)
+        k = math.exp(rng.uniform(math.log(0.01), math.log(0.07)))
+        mu0 = rng.uniform(0.55, 0.72)
+        p = dict(mu0=mu0, a=a, b=[b], dc=[dc], laws=[law], vc=None, g=0.0, k=k, v0=None)
+        a_min, factor, effect = a, 1.0, {}
+        if law == "nagata":
+            p["c"], factor, effect = val, 1.0 / (1.0 + val), {"c": val}
+        elif law == "mix1":
+            p["w"], effect = val, {"w": val}
+        elif law == "power_aging":
+            p["n"], factor, effect = val, val, {"n": val}
+        elif law == "rate_a":              # a_loc spans a (1 -+ a_span) over the slip rates reached
+            p["laws"], p["a1"], a_min = ["slip"], sign * val * a / x_span, a * (1.0 - val)
+            effect = {"a1": p["a1"], "a_span": val}
+        kc = factor * max(0.0, b - a_min) / dc
+        if k >= 8 * kc:
+            return p, effect, kc
+    raise RuntimeError("no stable parameter draw")
+
+
+def make_outside_record(spec, rng):
+    feats, fam = spec["features"], spec["family"]
+    law = OUTSIDE[fam][0]
+    sign = float(rng.choice([-1.0, 1.0]))
+    holds = None                                          # prz_steps, rate_a: steps only
+    if fam == "prz_holds":
+        holds = "short"
+    elif fam == "mix1":
+        holds = float(rng.choice([3000, 10000]))
+    elif fam in ("nagata", "power_aging"):
+        holds = float(rng.choice([300, 1000, 3000]))
+    for attempt in range(40):
+        segs, label = protocol_outside(rng, holds)
+        vmax = max(s[1] for s in segs)
+        if "variable_sampling" in feats:
+            seg_t = np.r_[0.0, np.cumsum([s[0] for s in segs])]
+            ts, dt_fast = variable_grid(rng, segs, seg_t), 0.1
+        else:
+            seg_t, ts = uniform_grid(rng, segs)
+            dt_fast = ts[1] - ts[0]
+        if "time_jitter" in feats:
+            ts = jitter(rng, ts)
+        seg_v = [s[1] for s in segs]
+        vpos = [v for v in seg_v if v > 0]
+        x_span = max(-math.log(min(vpos) / seg_v[0]), math.log(max(vpos) / seg_v[0])) + 1.0
+        p, effect, kc = sample_outside_truth(rng, spec, sign, max(1.0, 1.5 * vmax * dt_fast), 20.0, x_span)
+        p["v0"] = seg_v[0]
+        try:
+            Y, nfev = simulate(p, seg_t, seg_v, ts, model=rhs_and_jac_outside)
+        except Unstable:
+            continue
+        a_loc = p["a"] + p.get("a1", 0.0) * (Y[:, 0] - math.log(p["v0"]))
+        if a_loc.min() < 0.2 * p["a"] or Y[:, 0].max() > math.log(OUTSIDE_VMAX_FACTOR * vmax):
+            continue                                           # a_loc near zero, or a slip burst: redraw
+        mu = friction_outside(p, Y)
+        lp = load_point(seg_t, seg_v, ts)
+        mu_n, lp_n, sigma, info = add_noise(rng, feats, ts, mu, lp)
+        info["t0_s"] = math.exp(rng.uniform(math.log(100), math.log(1e5))) if "nonzero_t0" in feats else 0.0
+        v = np.exp(Y[:, 0])
+        info["spring_check"] = float(np.abs(mu - mu[0] - p["k"] * (lp - Y[:, -1])).max())
+        return dict(table=np.column_stack([ts + info["t0_s"], lp_n, mu_n]), effect=effect, truth=p,
+                    k_nom=p["k"], kc=kc, sigma=sigma, label=label, info=info, vmin=float(v.min()),
+                    vmax=float(v.max()), nfev=nfev, attempts=attempt + 1)
+    raise RuntimeError(f"no stable record for {spec}")
+
+
+def generate_outside(out, seed, families, limit=None):
+    out.mkdir(parents=True, exist_ok=True)
+    specs = plan_outside(np.random.default_rng(seed), families)[:limit]
+    manifest, t_start = [], time.time()
+    for i, spec in enumerate(specs):
+        t1 = time.time()
+        r = make_outside_record(spec, np.random.default_rng([seed, i]))
+        name = f"rec_{i:03d}.csv"
+        np.savetxt(out / name, r["table"], fmt="%.17g", delimiter=",",
+                   header="time_s,load_point_um,mu", comments="")
+        truth = {k: v for k, v in r["truth"].items() if v is not None}
+        law = OUTSIDE[spec["family"]][0]
+        size = outside_size(spec["family"], spec["value"])
+        manifest.append({"file": name, "cause": "outside", "size": size, "effect": r["effect"],
+                         "nominal_stiffness": r["k_nom"], "truth": truth, "features": spec["features"],
+                         "noise_sigma": r["sigma"], "protocol": r["label"], "n_samples": len(r["table"]),
+                         "v_min_reached": r["vmin"], "noise": r["info"], "family": spec["family"],
+                         "truth_law": law, "critical_stiffness": r["kc"]})
+        print(f"{name} {spec['family']:12s} {size:15s} {spec['material']:9s} "
+              f"n={len(r['table']):6d} T={r['table'][-1, 0] - r['table'][0, 0]:8.0f}s "
+              f"V=[{r['vmin']:.2e},{r['vmax']:.3g}] k/kc={r['k_nom'] / r['kc'] if r['kc'] > 0 else math.inf:.3g} "
+              f"nfev={r['nfev']} try={r['attempts']} spring={r['info'].pop('spring_check'):.1e} "
+              f"{time.time() - t1:.1f}s", flush=True)
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
+    print(f"{len(specs)} records in {time.time() - t_start:.0f} s -> {out}")
+
+
+def piecewise_grid(segs, dt_slide=0.3, dt_burst=0.02, burst=4.0, hold_pts=400, dt_hold=0.5):
+    """Breaks are samples; dt_burst for `burst` s after each change, then dt_slide on slides
+    (max(dt_slide, 0.01/V) when slow) and max(dt_hold, T/hold_pts) in holds."""
+    seg_t = np.r_[0.0, np.cumsum([s[0] for s in segs])]
+    pieces = [seg_t[-1:]]
+    for j, (d, v, kind) in enumerate(segs):
+        t0, t1 = seg_t[j], seg_t[j + 1]
+        tb = min(t1, t0 + burst) if j > 0 else t0
+        pieces.append(t0 + dt_burst * np.arange(int(round((tb - t0) / dt_burst))))
+        dt = max(dt_slide, 0.01 / v) if kind == "slide" else max(dt_hold, d / hold_pts)
+        pieces.append(tb + dt * np.arange(max(0, int(math.floor((t1 - tb) / dt - 0.5)) + 1)))
+    return seg_t, np.unique(np.concatenate(pieces))
+
+
+#: The four small records of tests/data/outside: name: (law parameters, k, protocol, AR(1) sigma)
+S316 = (30 / 10 ** 0.5, 10 ** 0.5, "slide")
+STEPS = [(30.0, 1.0, "slide"), S316, (40.0, 1.0, "slide"), (300.0, 0.1, "slide"), (40.0, 1.0, "slide")]
+OUTSIDE_TESTS = {
+    "prz_holds": (dict(laws=["prz"]), 0.02, STEPS + [(600.0, 0.03, "slide"), (40.0, 1.0, "slide")]
+                  + [s for h in (10, 30, 100) for s in ((float(h), 0.0, "hold"), (50.0, 1.0, "slide"))], 1e-4),
+    "mix1_holds": (dict(laws=["mix1"], w=0.3), 0.02,
+                   STEPS + [s for h in (10, 100, 1000, 10000) for s in ((float(h), 0.0, "hold"), (50.0, 1.0, "slide"))], 0.0),
+    "power_aging": (dict(laws=["power_aging"], n=1.5), 0.02, STEPS + [(1000.0, 0.01, "slide"), (40.0, 1.0, "slide")]
+                    + [s for h in (10, 100, 1000) for s in ((float(h), 0.0, "hold"), (50.0, 1.0, "slide"))], 0.0),
+    "nagata": (dict(laws=["nagata"], c=2.0), 0.01, STEPS + [(1000.0, 0.01, "slide"), (40.0, 1.0, "slide")]
+               + [s for h in (10, 100, 1000) for s in ((float(h), 0.0, "hold"), (50.0, 1.0, "slide"))], 0.0),
+}
+
+
+def outside_tests(out, names=None):
+    """The small test records of tests/data/outside (<= 8,000 rows each, %.10g): one state,
+    a = 0.008, b = 0.011, Dc = 5 um, mu0 = 0.6, V0 = 1 um/s; white noise 1.5e-4 (prz_holds:
+    plus AR(1) of 1e-4 with tau = 2 s)."""
+    out.mkdir(parents=True, exist_ok=True)
+    for idx, (name, (law, k, segs, ar1)) in enumerate(OUTSIDE_TESTS.items()):
+        if names and name not in names:
+            continue
+        t1 = time.time()
+        rng = np.random.default_rng([38, 1000 + idx])
+        p = dict(mu0=0.6, a=0.008, b=[0.011], dc=[5.0], g=0.0, k=k, v0=1.0, vc=None, **law)
+        seg_t, ts = piecewise_grid(segs)
+        seg_v = [s[1] for s in segs]
+        Y, _ = simulate(p, seg_t, seg_v, ts, model=rhs_and_jac_outside)
+        mu = friction_outside(p, Y) + 1.5e-4 * rng.standard_normal(len(ts))
+        if ar1 > 0:
+            phi = np.exp(-np.diff(ts) / 2.0)
+            xi, e = rng.standard_normal(len(ts)), np.empty(len(ts))
+            e[0] = ar1 * xi[0]
+            for i in range(1, len(ts)):
+                e[i] = phi[i - 1] * e[i - 1] + math.sqrt(1 - phi[i - 1] ** 2) * ar1 * xi[i]
+            mu = mu + e
+        path = out / f"{name}.csv"
+        np.savetxt(path, np.column_stack([ts, load_point(seg_t, seg_v, ts), mu]), fmt="%.10g",
+                   delimiter=",", header="time_s,load_point_um,mu", comments="")
+        v = np.exp(Y[:, 0])
+        print(f"{path}: {len(ts)} rows, {path.stat().st_size // 1024} KB, T {ts[-1]:.0f} s, "
+              f"V [{v.min():.3g}, {v.max():.3g}], k {k}, {time.time() - t1:.1f}s", flush=True)
+
+
 # ---------------------------------------------------------------- integrator check
 def check(refdir):
     """Compare with the tight Radau reference solutions (Aging and Slip cases that are well posed)."""
@@ -446,10 +749,99 @@ def check(refdir):
               f"max|dV/V|={dv:.2e} nfev={nfev} {time.time() - t1:.2f}s")
 
 
+def check_outside(refdir):
+    """The --outside integrator: against the tight Radau references (PRZ, Nagata, and the Aging
+    and Slip cases through each new law's reducing parameter), against this file's own
+    Aging/Slip integrator on bare-rock records with holds up to 1e4 s, and against the same laws
+    written in (mu, theta) and integrated explicitly (DOP853)."""
+    cases = json.loads((refdir / "rsfmodel" / "cases.json").read_text())["cases"]
+    # the reducing parameter of each new law: (law, parameters) that equals Aging or Slip
+    reduce = {"aging": [("mix1", {"w": 1.0}), ("power_aging", {"n": 1.0}), ("nagata", {"c": 0.0})],
+              "slip": [("mix1", {"w": 0.0}), ("slip", {"a1": 0.0})]}
+    print("-- outside laws vs tight_radau")
+    for c in cases:
+        if c["n_states"] != 1 or c["name"] == "b_slip_vstep_1_10":
+            continue
+        ref = np.genfromtxt(refdir / "tight_radau" / c["csv"], delimiter=",", names=True)
+        base = dict(mu0=c["mu0"], a=c["a"], k=c["k"], g=0.0, b=[c["b1"]], dc=[c["Dc1"]], v0=c["V0"])
+        runs = reduce.get(c["law1"], [(c["law1"], {"c": c.get("c1")} if c["law1"] == "nagata" else {})])
+        for law, extra in runs:
+            keep = np.isfinite(ref["mu"]) & (ref["time_s"] <= (11.0 if c["name"] == "g_prz_vstep_1_10" else np.inf))
+            ts = ref["time_s"][keep]
+            seg_t = [s[0] for s in c["schedule"]] + [ts[-1]]
+            p = dict(base, laws=[law], **extra)
+            Y, nfev = simulate(p, np.array(seg_t), [s[1] for s in c["schedule"]], ts, model=rhs_and_jac_outside)
+            mu = friction_outside(p, Y)
+            dv = np.abs(np.exp(Y[:, 0]) / ref["velocity_um_s"][keep] - 1).max()
+            tag = law + "".join(f" {k}={v:g}" for k, v in extra.items())
+            print(f"{c['name']:26s} as {tag:18s} rows={len(mu):6d} max|dmu|={np.abs(mu - ref['mu'][keep]).max():.2e} "
+                  f"max|dV/V|={dv:.2e} nfev={nfev}")
+    print("-- outside laws at their reducing parameter vs this file's Aging/Slip integrator")
+    for seed in range(3):
+        rng = np.random.default_rng([seed, 38])
+        segs, label = protocol_rock(rng, 10000.0)
+        seg_t, ts = uniform_grid(rng, segs)
+        seg_v = [s[1] for s in segs]
+        a = rng.uniform(0.006, 0.012)
+        base = dict(mu0=0.6, a=a, b=[a + rng.uniform(0.001, 0.004)], dc=[rng.uniform(5, 20)], g=0.0,
+                    k=0.05, v0=1.0, vc=None)
+        for pure, runs in reduce.items():
+            q = dict(base, laws=[pure])
+            Yq, _ = simulate(q, seg_t, seg_v, ts)
+            muq = friction(q, Yq, 1.0)
+            for law, extra in runs:
+                p = dict(base, laws=[law], **extra)
+                Y, _ = simulate(p, seg_t, seg_v, ts, model=rhs_and_jac_outside)
+                dv = np.abs(np.exp(Y[:, 0] - Yq[:, 0]) - 1).max()
+                tag = law + "".join(f" {k}={v:g}" for k, v in extra.items())
+                print(f"record {seed} ({len(ts)} rows, V_min {np.exp(Yq[:, 0]).min():.1e}) {tag:18s} vs {pure:5s} "
+                      f"max|dmu|={np.abs(friction_outside(p, Y) - muq).max():.2e} max|dV/V|={dv:.2e}")
+
+    print("-- outside laws in (mu, theta) form (DOP853, rtol 1e-12) vs the (ln V, ln theta) Radau path")
+    segs = [(30.0, 1.0), (10.0, 10 ** 0.5), (40.0, 1.0), (300.0, 0.1), (40.0, 1.0), (100.0, 0.0), (60.0, 1.0)]
+    seg_t, seg_v = np.r_[0.0, np.cumsum([s[0] for s in segs])], [s[1] for s in segs]
+    ts = np.round(np.arange(0.0, seg_t[-1] + 1e-9, 0.05), 10)
+    base = dict(mu0=0.6, a=0.01, b=[0.013], dc=[5.0], g=0.0, k=0.02, v0=1.0)
+    for law, extra in [("prz", {}), ("nagata", {"c": 2.0}), ("mix1", {"w": 0.3}), ("power_aging", {"n": 1.5}),
+                       ("slip", {"a1": 5e-4}), ("slip", {"a1": -5e-4})]:
+        p = dict(base, laws=[law], **extra)
+        Y, _ = simulate(p, seg_t, seg_v, ts, model=rhs_and_jac_outside)
+        mu0, a, a1, b, dc, k = p["mu0"], p["a"], p.get("a1", 0.0), p["b"][0], p["dc"][0], p["k"]
+        dce = 2 * dc if law == "prz" else dc
+
+        def vel(mu, th):                      # invert mu = mu0 + a X + (a1/2) X^2 + b ln(V0 th/Dc')
+            r = mu - mu0 - b * math.log(th / dce)
+            return math.exp(2 * r / (a + math.sqrt(a * a + 2 * a1 * r)))
+
+        def f(t, y, vlp):
+            mu, th = y
+            v = vel(mu, th)
+            om, mud = v * th / dc, k * (vlp - v)
+            thd = {"prz": lambda: 1 - (v * th / (2 * dc)) ** 2,
+                   "nagata": lambda: 1 - om - p.get("c", 0) / b * th * mud,
+                   "mix1": lambda: p.get("w", 0) * (1 - om) + (1 - p.get("w", 0)) * (-om * math.log(om)),
+                   "power_aging": lambda: 1 - om ** p.get("n", 1),
+                   "slip": lambda: -om * math.log(om)}[law]()
+            return [mud, thd]
+
+        y, mus, vs = [mu0, dce / p["v0"]], [], []
+        for j, vlp in enumerate(seg_v):           # restarted at each break, as simulate()
+            last = j == len(seg_v) - 1
+            te = ts[(ts >= seg_t[j]) & ((ts < seg_t[j + 1]) | last)]
+            sol = solve_ivp(f, (seg_t[j], seg_t[j + 1]), y, method="DOP853", rtol=1e-12,
+                            atol=[1e-15, 1e-12], t_eval=te if last else np.r_[te, seg_t[j + 1]], args=(vlp,))
+            mus += list(sol.y[0, :len(te)])
+            vs += [vel(m, th) for m, th in sol.y[:, :len(te)].T]
+            y = sol.y[:, -1]
+        tag = law + "".join(f" {k}={v:g}" for k, v in extra.items())
+        print(f"steps 1<->3.16,0.1 + hold 100 s ({len(ts)} rows) {tag:18s} "
+              f"max|dmu|={np.abs(friction_outside(p, Y) - np.array(mus)).max():.2e} "
+              f"max|dV/V|={np.abs(np.exp(Y[:, 0]) / np.array(vs) - 1).max():.2e}")
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", type=Path)
-    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--seed", type=int, help="default 1 (--outside: 38)")
     ap.add_argument("--quick", action="store_true", help="about 1/5 of the set")
     ap.add_argument("--check", type=Path, metavar="REFDIR", help="compare with shared/reference")
     ap.add_argument("--drift", action="store_true", help="the 1/f-noise set (32 none, 16 mixture, 16 cut-off)")
@@ -457,14 +849,30 @@ if __name__ == "__main__":
     ap.add_argument("--rows-scale", type=float, default=1.0,
                     help="records this many times longer in rows (the speed set of issue 22: 3.5)")
     ap.add_argument("--limit", type=int, help="only the first N records of the (shuffled) set")
+    ap.add_argument("--outside", action="store_true",
+                    help="truths outside the diagnosis's menu: PRZ, Nagata, one-state Aging/Slip mixture, "
+                         "power-law aging, rate-dependent a (12 records per family)")
+    ap.add_argument("--outside-families", metavar="A,B", help="only these families of --outside: "
+                    + ",".join(OUTSIDE))
+    ap.add_argument("--outside-tests", type=Path, metavar="DIR",
+                    help="write the four small test records of tests/data/outside")
     args = ap.parse_args()
     ROWS_SCALE = args.rows_scale
+    if args.outside_tests:
+        outside_tests(args.outside_tests)
+        sys.exit(0)
     if args.issue21:
         issue21_case(args.issue21)
         sys.exit(0)
     if args.check:
         check(args.check)
-    if args.out:
-        generate(args.out, args.seed, args.quick, args.drift, args.limit)
+        check_outside(args.check)
+    if args.out and args.outside:
+        fams = args.outside_families.split(",") if args.outside_families else list(OUTSIDE)
+        if any(f not in OUTSIDE for f in fams):
+            ap.error(f"--outside-families: choose among {','.join(OUTSIDE)}")
+        generate_outside(args.out, 38 if args.seed is None else args.seed, fams, args.limit)
+    elif args.out:
+        generate(args.out, 1 if args.seed is None else args.seed, args.quick, args.drift, args.limit)
     elif not args.check:
         ap.error("give --out DIR (and/or --check REFDIR)")

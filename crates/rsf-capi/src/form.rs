@@ -122,6 +122,9 @@ impl AbiLaw {
                 RsfStatus::RsfUnknownId,
                 "law id 4 (nagata) needs the shear-stress rate, which this ABI version does not carry".into(),
             )),
+            Law::AgingSlip => {
+                Err(fail(RsfStatus::RsfUnknownId, "law id 5 (aging-slip) is not carried by this ABI version".into()))
+            }
         }
     }
 

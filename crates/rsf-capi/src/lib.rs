@@ -60,7 +60,8 @@ pub enum RsfLaw {
 
 impl RsfLaw {
     /// The C enum value of a registry law, `None` for one this ABI does not carry (Nagata's
-    /// law needs the shear-stress rate). Exhaustive: a new law fails to compile here until the
+    /// law needs the shear-stress rate; the one-state Aging–Slip mixture is not in this ABI
+    /// version). Exhaustive: a new law fails to compile here until the
     /// ABI decides.
     pub fn of(law: Law) -> Option<RsfLaw> {
         match law {
@@ -68,7 +69,7 @@ impl RsfLaw {
             Law::Slip => Some(RsfLaw::RsfLawSlip),
             Law::KatoTullis => Some(RsfLaw::RsfLawKatoTullis),
             Law::Prz => Some(RsfLaw::RsfLawPrz),
-            Law::Nagata => None,
+            Law::Nagata | Law::AgingSlip => None,
         }
     }
 }

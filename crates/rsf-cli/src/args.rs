@@ -184,6 +184,11 @@ pub(crate) struct DiagnosisArgs {
     /// Nominal machine stiffness k, 1/µm.
     #[arg(long)]
     pub(crate) stiffness: f64,
+    /// Relative uncertainty (one standard deviation) of the nominal stiffness, from your
+    /// machine's calibration: a fitted k within two of them of the nominal is not named as a
+    /// cause.
+    #[arg(long, default_value_t = rsf_fit::diagnose::STIFFNESS_UNCERTAINTY)]
+    pub(crate) stiffness_uncertainty: f64,
     /// Baseline evolution law: slip or aging.
     #[arg(long, default_value = "slip", value_parser = word::<Baseline>)]
     pub(crate) baseline: Baseline,

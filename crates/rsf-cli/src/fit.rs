@@ -296,8 +296,15 @@ pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::D
     if !(a.false_alarm_level > 0.0 && a.false_alarm_level < 1.0) {
         bail!("--false-alarm-level {} must lie between 0 and 1", a.false_alarm_level);
     }
+    if !(a.stiffness_uncertainty > 0.0 && a.stiffness_uncertainty < 1.0) {
+        bail!(
+            "--stiffness-uncertainty {} must lie between 0 and 1 (a fraction of the nominal)",
+            a.stiffness_uncertainty
+        );
+    }
     Ok(rsf_fit::diagnose::DiagnoseOptions {
         heldout: !a.no_heldout,
+        stiffness_uncertainty: a.stiffness_uncertainty,
         stage_times: a.stage_times,
         seed: a.seed,
         threads: a.threads,
@@ -339,6 +346,16 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     if let Some((c, s)) = &d.runner_up {
         out += &format!("runner-up: {c} (ΔBIC {s:.1})\n");
     }
+    if let Some(p) = d.partial {
+        out += &format!("best partial extension: {p}\n");
+    }
+    out += &format!(
+        "adequacy: {} (excess {:.2}, p {:.3}, {} event windows)\n",
+        d.adequacy.verdict.as_str(),
+        d.adequacy.excess,
+        d.adequacy.p_value,
+        d.adequacy.windows
+    );
     if let Some(s) = &d.secondary {
         out += &format!(
             "second cause: {} on top of {}: ΔBIC {:.1}, rms ratio {:.4}, effect {}\n",

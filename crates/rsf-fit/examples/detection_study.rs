@@ -76,11 +76,17 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
     let truth = m["cause"].as_str().unwrap_or_default();
     let mut r = json!({
         "file": file, "cause": truth, "size": m["size"], "features": m["features"], "effect_true": m["effect"],
+        "family": m["family"], "truth_law": m["truth_law"],
         "seconds": t.elapsed().as_secs_f64(),
     });
     match outcome {
         Ok(d) => {
             r["found"] = json!(d.cause.as_str());
+            r["partial"] = json!(d.partial.map(|c| c.as_str()));
+            r["adequacy"] = json!(d.adequacy.verdict.as_str());
+            r["adequacy_excess"] = json!(d.adequacy.excess);
+            r["adequacy_p"] = json!(d.adequacy.p_value);
+            r["law"] = json!(d.effect.law);
             r["secondary"] = json!(d.secondary.as_ref().map(|s| s.cause.as_str()));
             r["effect"] = json!(d.effect);
             r["confidence"] = json!(d.confidence);
@@ -118,7 +124,26 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
 /// per cause × size.
 fn tables(results: &[Value]) -> String {
     let s = |v: &Value, k: &str| v[k].as_str().unwrap_or_default().to_string();
-    let mut out = String::from("| hidden cause | records | named correctly | named instead |\n|---|---|---|---|\n");
+    let mut out = String::new();
+    // truths outside the one-step menu: per family, what was named (with the law) and the adequacy
+    let mut by_family: BTreeMap<String, Vec<&Value>> = BTreeMap::new();
+    for r in results.iter().filter(|r| r["family"].is_string()) {
+        by_family.entry(s(r, "family")).or_default().push(r);
+    }
+    if !by_family.is_empty() {
+        out += "| family | records | named (law; adequacy) |\n|---|---|---|\n";
+        for (f, rs) in &by_family {
+            let mut named: BTreeMap<String, usize> = BTreeMap::new();
+            for r in rs {
+                let law = r["law"].as_str().map(|l| format!(" {l}")).unwrap_or_default();
+                *named.entry(format!("{}{law}; {}", s(r, "found"), s(r, "adequacy"))).or_default() += 1;
+            }
+            let w: Vec<String> = named.iter().map(|(k, n)| format!("{k} ×{n}")).collect();
+            out += &format!("| {f} | {} | {} |\n", rs.len(), w.join(", "));
+        }
+        out += "\n";
+    }
+    out += &String::from("| hidden cause | records | named correctly | named instead |\n|---|---|---|---|\n");
     let mut by_cause: BTreeMap<String, Vec<&Value>> = BTreeMap::new();
     for r in results {
         by_cause.entry(s(r, "cause")).or_default().push(r);

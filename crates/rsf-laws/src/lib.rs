@@ -11,6 +11,7 @@
 //! | `kato-tullis` | [`KatoTullis`] | `exp(−V/Vc) − Ω ln Ω` |
 //! | `prz` | [`Prz`] | `1 − (Ω/2)²` |
 //! | `nagata` | [`Nagata`] | `1 − Ω − (c/b) θ dτ/dt` |
+//! | `aging-slip` | [`AgingSlip`] | `w (1 − Ω) − (1 − w) Ω ln Ω` |
 //!
 //! ```
 //! use rsf_core::{Model, StateVariable};
@@ -247,6 +248,58 @@ impl StateLaw for Nagata {
     }
 }
 
+/// One state evolving by a weighted sum of the Aging and Slip rates,
+/// `dθ/dt = w (1 − Ω) − (1 − w) Ω ln Ω` (w, the aging share, dimensionless in [0, 1]).
+///
+/// Healing partly by time and partly by slip in one contact population: w = 1 is the Aging
+/// law, w = 0 the Slip law. Steady state θ = Dc/V for every w. (The two-state form, a state of
+/// each law, is a different model: there each law has its own b.)
+///
+/// Kato, N. & Tullis, T. E. (2001) discuss such composites; Bhattacharya et al. (2015), Critical
+/// evaluation of state evolution laws in rate and state friction, J. Geophys. Res. 120,
+/// 6365–6385, fit weighted Aging/Slip forms to velocity steps and holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AgingSlip {
+    /// Aging share w of the evolution rate (dimensionless, 0–1).
+    pub w: f64,
+}
+
+impl StateLaw for AgingSlip {
+    fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
+        let omega = s.v * s.theta / s.dc;
+        (-omega + 1.0) * self.w - omega * omega.ln() * (1.0 - self.w)
+    }
+    fn name(&self) -> String {
+        "aging-slip".into()
+    }
+    /// w (1/θ − V/Dc) − (1 − w)(V/Dc) ln Ω.
+    fn ln_theta_rate(&self, s: &LnArgs) -> f64 {
+        self.w * ((-s.z).exp() - s.v_dc) - (1.0 - self.w) * s.v * (s.inv_dc * (s.x + s.z - s.ln_dc))
+    }
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        vec![("w", self.w)]
+    }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), String> {
+        match name {
+            "w" => {
+                self.w = value;
+                Ok(())
+            }
+            _ => Err(format!("law `aging-slip` has no parameter `{name}`")),
+        }
+    }
+    fn validate(&self) -> Result<(), String> {
+        if (0.0..=1.0).contains(&self.w) {
+            Ok(())
+        } else {
+            Err(format!("w = {} must lie in [0, 1] (the aging share)", self.w))
+        }
+    }
+    fn steady_state_theta(&self, v: f64, dc: f64) -> Result<f64, String> {
+        Ok(dc / v)
+    }
+}
+
 /// The built-in laws: the one place each is listed — its name in files and on the command
 /// line, its own parameters, its constructor, its id in the C ABI and its name in words. A new
 /// variant fails to compile until every match on it (the CLI, Python, the C ABI, the report)
@@ -263,6 +316,8 @@ pub enum Law {
     Prz,
     /// [`Nagata`].
     Nagata,
+    /// [`AgingSlip`].
+    AgingSlip,
 }
 
 rsf_core::vocabulary!(Law, "law", {
@@ -271,6 +326,7 @@ rsf_core::vocabulary!(Law, "law", {
     KatoTullis => "kato-tullis",
     Prz => "prz",
     Nagata => "nagata",
+    AgingSlip => "aging-slip",
 });
 
 impl Law {
@@ -282,24 +338,28 @@ impl Law {
             Law::KatoTullis => "Kato–Tullis",
             Law::Prz => "PRZ",
             Law::Nagata => "Nagata",
+            Law::AgingSlip => "Aging–Slip",
         }
     }
 
-    /// The law's own parameters (`vc`, µm/s; `c`, dimensionless).
+    /// The law's own parameters (`vc`, µm/s; `c` and `w`, dimensionless).
     pub fn parameters(self) -> &'static [&'static str] {
         match self {
             Law::Aging | Law::Slip | Law::Prz => &[],
             Law::KatoTullis => &["vc"],
             Law::Nagata => &["c"],
+            Law::AgingSlip => &["w"],
         }
     }
 
-    /// Where a fit starts each of the law's own parameters (Vc 0.01 µm/s; Nagata's c 1).
+    /// Where a fit starts each of the law's own parameters (Vc 0.01 µm/s; Nagata's c 1; the
+    /// aging share w ½).
     pub fn starting_value(self, parameter: &str) -> Option<f64> {
         match (self, parameter) {
             (Law::KatoTullis, "vc") => Some(0.01),
             (Law::Nagata, "c") => Some(1.0),
-            (Law::KatoTullis | Law::Nagata | Law::Aging | Law::Slip | Law::Prz, _) => None,
+            (Law::AgingSlip, "w") => Some(0.5),
+            (Law::KatoTullis | Law::Nagata | Law::AgingSlip | Law::Aging | Law::Slip | Law::Prz, _) => None,
         }
     }
 
@@ -311,7 +371,9 @@ impl Law {
             (Law::KatoTullis, "vc") => Some(ParameterRange { lo: 1e-9, hi: 1e6, log: true }),
             // dimensionless, of either sign in a fit's trial steps
             (Law::Nagata, "c") => Some(ParameterRange { lo: -1e9, hi: 1e9, log: false }),
-            (Law::KatoTullis | Law::Nagata | Law::Aging | Law::Slip | Law::Prz, _) => None,
+            // a share: 0 is the Slip law, 1 the Aging law
+            (Law::AgingSlip, "w") => Some(ParameterRange { lo: 0.0, hi: 1.0, log: false }),
+            (Law::KatoTullis | Law::Nagata | Law::AgingSlip | Law::Aging | Law::Slip | Law::Prz, _) => None,
         }
     }
 
@@ -323,6 +385,7 @@ impl Law {
             Law::KatoTullis => 2,
             Law::Prz => 3,
             Law::Nagata => 4,
+            Law::AgingSlip => 5,
         }
     }
 
@@ -340,6 +403,7 @@ impl Law {
             Law::KatoTullis => Arc::new(KatoTullis { vc: need("vc")? }),
             Law::Prz => Arc::new(Prz),
             Law::Nagata => Arc::new(Nagata { c: need("c")? }),
+            Law::AgingSlip => Arc::new(AgingSlip { w: need("w")? }),
         })
     }
 
@@ -391,6 +455,10 @@ mod tests {
                 let l = Nagata { c: 2.0 };
                 Box::new(move |s| (l.ln_theta_rate(s), l.theta_rate(&s.state_args())))
             }),
+            ("aging-slip", {
+                let l = AgingSlip { w: 0.3 };
+                Box::new(move |s| (l.ln_theta_rate(s), l.theta_rate(&s.state_args())))
+            }),
         ];
         for &(x, z, dc) in
             &[(0.3, 1.1, 2.07), (-20.0, 25.0, 8000.0), (5.0, -4.0, 0.1), (-3.0, 3.0 + 2.07f64.ln(), 2.07)]
@@ -419,6 +487,7 @@ mod tests {
             Arc::new(KatoTullis { vc: 0.05 }),
             Arc::new(Prz),
             Arc::new(Nagata { c: 2.0 }),
+            Arc::new(AgingSlip { w: 0.3 }),
         ]
     }
 

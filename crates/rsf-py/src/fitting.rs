@@ -262,7 +262,8 @@ pub(crate) fn diagnose_options(
 /// `report` when given.
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0,
-    normal_stress=None, normal_stress_mode="auto", report=None, name="record", progress=false))]
+    normal_stress=None, normal_stress_mode="auto", report=None, name="record", progress=false,
+    stiffness_uncertainty=rsf_fit::diagnose::STIFFNESS_UNCERTAINTY))]
 #[allow(clippy::too_many_arguments)]
 pub fn diagnose_json(
     py: Python<'_>,
@@ -279,9 +280,16 @@ pub fn diagnose_json(
     report: Option<&str>,
     name: &str,
     progress: bool,
+    stiffness_uncertainty: f64,
 ) -> PyResult<(String, String)> {
     let rec = record(time, load_point, mu, normal_stress)?;
     let (mut dopts, cancel) = diagnose_options(baseline, stiffness, loading, normal_stress_mode, seed, threads)?;
+    if !(stiffness_uncertainty > 0.0 && stiffness_uncertainty < 1.0) {
+        return Err(value_error(format!(
+            "stiffness_uncertainty {stiffness_uncertainty} must lie between 0 and 1 (a fraction of the nominal)"
+        )));
+    }
+    dopts.stiffness_uncertainty = stiffness_uncertainty;
     if progress {
         dopts.progress = Some(Arc::new(|done, all, what: &str| eprintln!("rsf.diagnose: {done}/{all} {what}")));
     }

@@ -170,6 +170,7 @@ struct RawState<W: Wrap> {
     dc: W::Of<f64>,
     vc: Option<W::Of<f64>>,
     c: Option<W::Of<f64>>,
+    w: Option<W::Of<f64>>,
     alpha: Option<W::Of<f64>>,
 }
 
@@ -316,7 +317,7 @@ fn build<W: Wrap>(
         let kind: rsf_laws::Law =
             law_name.parse().map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;
         let wanted = kind.parameters();
-        for (pname, val) in [("vc", &s.vc), ("c", &s.c)] {
+        for (pname, val) in [("vc", &s.vc), ("c", &s.c), ("w", &s.w)] {
             if let Some(v) = val {
                 if !wanted.contains(&pname) {
                     return Err(err(
@@ -331,6 +332,7 @@ fn build<W: Wrap>(
             .build(|p| match p {
                 "vc" => s.vc.as_ref().map(|v| *v.get()),
                 "c" => s.c.as_ref().map(|v| *v.get()),
+                "w" => s.w.as_ref().map(|v| *v.get()),
                 _ => None,
             })
             .map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;

@@ -87,6 +87,12 @@ pub struct Row {
     pub effect: Option<String>,
     /// The runner-up cause.
     pub runner_up: Option<String>,
+    /// For `unexplained`: the best partial extension.
+    pub partial: Option<String>,
+    /// The adequacy test of the model named: `adequate`, `inadequate` or `untestable`.
+    pub adequacy: Option<String>,
+    /// Its excess (1: the event windows look like noise).
+    pub adequacy_excess: Option<f64>,
     /// Drift rms left in the residuals of the model named, when reported.
     pub drift_rms: Option<f64>,
     /// The manifest's `meta_…` cells.
@@ -114,6 +120,9 @@ impl Row {
             rms_ratio: None,
             effect: None,
             runner_up: None,
+            partial: None,
+            adequacy: None,
+            adequacy_excess: None,
             drift_rms: None,
             meta: vec![],
         }
@@ -135,12 +144,15 @@ const HEAD: [(&str, CellKind); 11] = [
     ("rms", CellKind::Number),
 ];
 /// The fixed columns after the parameters, and their kinds.
-const TAIL: [(&str, CellKind); 6] = [
+const TAIL: [(&str, CellKind); 9] = [
     ("cause", CellKind::Text),
     ("delta_bic", CellKind::Number),
     ("rms_ratio", CellKind::Number),
     ("effect", CellKind::Text),
     ("runner_up", CellKind::Text),
+    ("partial", CellKind::Text),
+    ("adequacy", CellKind::Text),
+    ("adequacy_excess", CellKind::Number),
     ("drift_rms", CellKind::Number),
 ];
 
@@ -269,6 +281,9 @@ pub fn summary_table(rows: &[Row]) -> SummaryTable {
             num(r.rms_ratio),
             text(r.effect.as_deref().unwrap_or_default()),
             text(r.runner_up.as_deref().unwrap_or_default()),
+            text(r.partial.as_deref().unwrap_or_default()),
+            text(r.adequacy.as_deref().unwrap_or_default()),
+            num(r.adequacy_excess),
             num(r.drift_rms),
         ]);
         for m in &metas {

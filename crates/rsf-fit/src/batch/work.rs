@@ -177,6 +177,9 @@ fn work(entry: &Entry, defaults: &RecordOptions, job: Job, threads: usize) -> Ou
                 out.row.rms_ratio = d.gain.as_ref().map(|g| g.rms_ratio);
                 out.row.effect = (!d.effect.is_empty()).then(|| serde_json::to_string(&d.effect).unwrap_or_default());
                 out.row.runner_up = d.runner_up.as_ref().map(|(c, _)| c.to_string());
+                out.row.partial = d.partial.map(|c| c.to_string());
+                out.row.adequacy = Some(d.adequacy.verdict.as_str().to_string());
+                out.row.adequacy_excess = Some(d.adequacy.excess).filter(|x| x.is_finite());
                 out.row.drift_rms = d.noise_drift.as_ref().map(|n| n.rms);
                 out.diagnosis = Some(d);
             }

@@ -1,17 +1,18 @@
 //! One candidate extension: fitting it from the baseline (with the stiffness's softer
 //! starts), its held-out test, its null calibration, and a second cause on top of the first.
 
-use super::cause::{Cause, builtin, effect_of, other_law};
+use super::cause::{Cause, builtin, effect_of, library_laws, other_law};
 use super::decide::{heldout_ok, ineligible, merge};
 use super::evidence::{Noisy, noisy, scores};
 use super::heldout::heldout;
 use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::parallel::par_map;
 use super::starts::fit_from;
-use super::{Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_CALIBRATION, Secondary};
+use super::{Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_SIGMAS, Secondary};
 use crate::data::Record;
 use crate::fit::{Budget, FitOptions, FitResult, ParamName, Params, Prepared, fit, prepare};
 use crate::segment::{Segment, SegmentOptions, detect};
+use rsf_laws::Law;
 
 /// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
 /// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
@@ -130,10 +131,19 @@ impl Ctx<'_> {
         base: &FitResult,
         bn: &Noisy,
         threads: usize,
+        only: Option<&str>,
     ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy)> {
         let mut single: Option<Params> = None;
         let mut fitted = vec![];
         for (ext, o) in self.variants(cause) {
+            // a law of the library is refitted only when it is the way asked for; the classic
+            // ways (the other law, the two-state mixture) always
+            let library = o.laws.len() == 1
+                && o.laws[0].name() != self.base_law
+                && o.laws[0].name() != other_law(&self.base_law).name();
+            if library && only.is_some_and(|e| e != ext) {
+                continue;
+            }
             let Some(pc) = pc_of(&o) else { continue };
             let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
             let mut starts = vec![from.clone()];
@@ -148,7 +158,8 @@ impl Ctx<'_> {
                 .filter(|f| !mixture || f.params.b[0] * f.params.b[1] > 0.0)
                 .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood));
             let Some(f) = best else { continue };
-            if cause == Cause::EvolutionLaw && o.laws.len() == 1 {
+            if cause == Cause::EvolutionLaw && o.laws.len() == 1 && o.laws[0].name() == other_law(&self.base_law).name()
+            {
                 single = Some(f.params.clone());
             }
             let en = noisy(&f);
@@ -185,7 +196,7 @@ impl Ctx<'_> {
     pub(super) fn full_fit(&self, cause: Cause) -> Option<FullFit> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
         let (extension, o, _, f, nf) =
-            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads)?;
+            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads, None)?;
         Some(FullFit { extension, o, f, nf })
     }
 
@@ -233,6 +244,7 @@ impl Ctx<'_> {
                 && (self.sigma_held_out || self.training_blind(cause, &f, training_gain)),
             drift_share_after: nf.model.drift_share,
             effect: effect_of(&[cause], &f),
+            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
             at_bound,
@@ -243,18 +255,25 @@ impl Ctx<'_> {
         }
     }
 
-    /// Why a decisive effect is no finding: a stiffness within [`STIFFNESS_CALIBRATION`] of the
-    /// nominal, or an added state whose Dc is shorter than the slip between two samples at the
+    /// Why a decisive effect is no finding: a stiffness within [`STIFFNESS_SIGMAS`] stated
+    /// uncertainties of the nominal, or an added state whose Dc is shorter than the slip between two samples at the
     /// fastest load-point rate (the record cannot resolve it: such a state only reshapes the
     /// first sample after a step).
     fn unresolved(&self, cause: Cause, f: &FitResult) -> Option<String> {
         let nominal = self.base_opts.stiffness;
         match cause {
-            Cause::Stiffness if (f.params.k / nominal - 1.0).abs() < STIFFNESS_CALIBRATION => Some(format!(
-                "k = {:.4e} is within {:.0} % of the nominal {nominal:.4e}, inside a machine calibration's uncertainty",
-                f.params.k,
-                100.0 * STIFFNESS_CALIBRATION
-            )),
+            Cause::Stiffness
+                if (f.params.k / nominal).ln().abs() < STIFFNESS_SIGMAS * self.opts.stiffness_uncertainty =>
+            {
+                Some(format!(
+                    "k = {:.4e} is {:.1} % from the nominal {nominal:.4e}, inside the nominal's stated uncertainty \
+                     ({} × {:.1} %)",
+                    f.params.k,
+                    100.0 * (f.params.k / nominal - 1.0),
+                    STIFFNESS_SIGMAS,
+                    100.0 * self.opts.stiffness_uncertainty
+                ))
+            }
             Cause::SecondStateVariable => {
                 let res = self.slip_per_sample();
                 let dc = f.params.dc.iter().copied().fold(f64::INFINITY, f64::min);
@@ -267,6 +286,7 @@ impl Ctx<'_> {
             }
             Cause::Stiffness
             | Cause::None
+            | Cause::Unexplained
             | Cause::EvolutionLaw
             | Cause::CutoffVelocity
             | Cause::SlipTrend
@@ -321,7 +341,9 @@ impl Ctx<'_> {
             let fb = fit(&pb, &o).ok()?;
             let nb = noisy(&fb);
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
-            let (_, _, _, fc, nc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1)?;
+            // the classic ways and the way the record chose: a null replicate of every law of
+            // the library would cost three more fits of the evolution law per replicate
+            let (_, _, _, fc, nc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
             Some(gain(&fb, &nb, &fc, &nc))
         };
         let seeds: Vec<u64> =
@@ -448,6 +470,34 @@ pub fn cause_variants(cause: Cause, o: &FitOptions, base_law: &str) -> Vec<(Stri
         om.laws.push(builtin(other));
         om.fix.push(crate::fit::Constraint::difference("dc1", "dc2", 0.0));
         tries.push((format!("a mixture: {base_law} and {other} states sharing Dc"), om));
+        // the law library: each law for every state of the baseline (one, in a diagnosis)
+        for law in library_laws() {
+            let start = library_start(law, base_law);
+            let Ok(l) = law.build(|p| start.iter().find(|s| s.0 == p).map(|s| s.1).or(law.starting_value(p))) else {
+                continue;
+            };
+            let mut ol = o.clone();
+            if ol.laws.iter().any(|x| x.name() != base_law) {
+                continue;
+            }
+            ol.laws = ol.laws.iter().map(|_| l.clone()).collect();
+            tries.push((format!("{} law instead of {base_law}", law.words()), ol));
+        }
     }
     tries
 }
+
+/// Where a library law's own parameters start from the baseline optimum: the one-state
+/// Aging–Slip mixture next to the baseline's own law (w = 0.1 from Slip, 0.9 from Aging; at
+/// w = 0 or 1 exactly, every step that leaves the bound would be rejected), the others at
+/// their registry starts.
+fn library_start(law: Law, base_law: &str) -> Vec<(&'static str, f64)> {
+    match law {
+        Law::AgingSlip if base_law == Law::Aging.name() => vec![("w", 1.0 - MIXTURE_START_OFF_BOUND)],
+        Law::AgingSlip => vec![("w", MIXTURE_START_OFF_BOUND)],
+        Law::Aging | Law::Slip | Law::KatoTullis | Law::Prz | Law::Nagata => vec![],
+    }
+}
+
+/// The one-state mixture's start this far inside its range from the baseline's own law.
+const MIXTURE_START_OFF_BOUND: f64 = 0.1;

@@ -25,6 +25,10 @@ pub enum Cause {
     /// Linker–Dieterich coupling of state to normal-stress changes (α > 0); a candidate only
     /// when the record's normal stress varies.
     NormalStressCoupling,
+    /// Not explained: the best model on the menu (the baseline, or the best extension) still
+    /// misfits the record beyond its noise where the protocol's events are (the adequacy test,
+    /// `diagnose/adequacy.rs`). Never a candidate: a verdict about the menu.
+    Unexplained,
 }
 
 impl Cause {
@@ -38,9 +42,34 @@ impl Cause {
         Cause::NormalStressCoupling,
     ];
 
+    /// Every cause: `none`, the candidates, `unexplained`.
+    pub const ALL: [Cause; 8] = [
+        Cause::None,
+        Cause::EvolutionLaw,
+        Cause::SecondStateVariable,
+        Cause::CutoffVelocity,
+        Cause::SlipTrend,
+        Cause::Stiffness,
+        Cause::NormalStressCoupling,
+        Cause::Unexplained,
+    ];
+
     /// The cause named `s` (its [`as_str`](Self::as_str) name, as in JSON).
     pub fn parse(s: &str) -> Option<Cause> {
-        std::iter::once(Cause::None).chain(Self::CANDIDATES).find(|c| c.as_str() == s)
+        Self::ALL.into_iter().find(|c| c.as_str() == s)
+    }
+
+    /// Whether this is one of the candidate extensions (not `none` or `unexplained`).
+    pub fn is_candidate(self) -> bool {
+        match self {
+            Self::None | Self::Unexplained => false,
+            Self::EvolutionLaw
+            | Self::SecondStateVariable
+            | Self::CutoffVelocity
+            | Self::SlipTrend
+            | Self::Stiffness
+            | Self::NormalStressCoupling => true,
+        }
     }
 
     /// The snake_case name (as in JSON).
@@ -53,6 +82,7 @@ impl Cause {
             Self::SlipTrend => "slip_trend",
             Self::Stiffness => "stiffness",
             Self::NormalStressCoupling => "normal_stress_coupling",
+            Self::Unexplained => "unexplained",
         }
     }
 
@@ -66,6 +96,7 @@ impl Cause {
             Self::SlipTrend => "slip trend g·slip".into(),
             Self::Stiffness => "stiffness fitted".into(),
             Self::NormalStressCoupling => "Linker–Dieterich normal-stress coupling α".into(),
+            Self::Unexplained => "no model on the menu".into(),
         }
     }
 
@@ -75,6 +106,7 @@ impl Cause {
         let mut o = o.clone();
         match self {
             Self::None => {}
+            Self::Unexplained => return None,
             Self::EvolutionLaw => {
                 if o.laws.iter().any(|l| l.name() != base_law) {
                     return None;
@@ -120,13 +152,16 @@ impl Cause {
     fn add_effect(self, f: &FitResult, effect: &mut Effect) {
         let pr = &f.params;
         match self {
-            Self::None => {}
+            Self::None | Self::Unexplained => {}
             Self::EvolutionLaw => {
                 effect.law = Some(pr.laws.join("+"));
                 if pr.b.len() == 2 {
                     // share of the evolution effect carried by the other law
                     effect.b_other_fraction = Some(pr.b[1] / (pr.b[0] + pr.b[1]));
                 }
+                // a library law's own parameter (Nagata's c, the one-state mixture's aging share)
+                effect.c = pr.law_params.get("c1").copied();
+                effect.w = pr.law_params.get("w1").copied();
             }
             Self::SecondStateVariable => {
                 // the states are exchangeable in the fit: report the slower one as the second
@@ -156,6 +191,9 @@ pub struct Effect {
     /// Share of b carried by the other law in a mixture of laws.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub b_other_fraction: Option<f64>,
+    /// Nagata's stress-weakening coefficient c (dimensionless), when the law named is Nagata's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub c: Option<f64>,
     /// Dc of the added, slower state variable, µm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dc2: Option<f64>,
@@ -171,6 +209,9 @@ pub struct Effect {
     /// Cut-off velocity Vc, µm/s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vc: Option<f64>,
+    /// Aging share w of a one-state Aging–Slip mixture (`aging-slip`), dimensionless.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub w: Option<f64>,
     /// Which fitted state (1-based) `b2` and `dc2` are: the states are exchangeable in the
     /// fit, and the slower one is reported as the second.
     #[serde(skip)]
@@ -215,7 +256,7 @@ impl Effect {
 
     /// The set parameters, in key order (as serialised).
     pub fn entries(&self) -> Vec<EffectEntry> {
-        let Effect { alpha, b2, b_other_fraction, dc2, g, k, law, vc, second_state } = self;
+        let Effect { alpha, b2, b_other_fraction, c, dc2, g, k, law, vc, w, second_state } = self;
         let num = |key: &'static str, x: &Option<f64>, parameter: Option<ParamName>| {
             x.map(|x| EffectEntry { key, value: EffectValue::Number(x), parameter })
         };
@@ -224,11 +265,13 @@ impl Effect {
             num("alpha", alpha, Some(ParamName::Alpha(1))),
             num("b2", b2, Some(ParamName::B(state))),
             num("b_other_fraction", b_other_fraction, None),
+            num("c", c, Some(ParamName::Law("c".into(), 1))),
             num("dc2", dc2, Some(ParamName::Dc(state))),
             num("g", g, Some(ParamName::G)),
             num("k", k, Some(ParamName::K)),
             law.clone().map(|l| EffectEntry { key: "law", value: EffectValue::Law(l), parameter: None }),
             num("vc", vc, Some(ParamName::Law("vc".into(), 1))),
+            num("w", w, Some(ParamName::Law("w".into(), 1))),
         ]
         .into_iter()
         .flatten()
@@ -281,4 +324,19 @@ pub(super) fn other_law(base_law: &str) -> Law {
 /// A built-in law at its fit starting values (Vc 0.01 µm/s; the fit sets it).
 pub(super) fn builtin(law: Law) -> Arc<dyn rsf_core::DynStateLaw> {
     law.with_starting_values()
+}
+
+/// The laws of the library tried as the evolution law besides the other classic law: every
+/// built-in law but the two classic ones (the baseline and the other law, tried first) and the
+/// Kato–Tullis law (its own cause, `cutoff_velocity`, with its Vc profile). Exhaustive: a new
+/// built-in law fails to compile here until the diagnosis decides whether it is a candidate.
+pub(super) fn library_laws() -> Vec<Law> {
+    Law::ALL
+        .iter()
+        .copied()
+        .filter(|l| match l {
+            Law::Aging | Law::Slip | Law::KatoTullis => false,
+            Law::Prz | Law::Nagata | Law::AgingSlip => true,
+        })
+        .collect()
 }

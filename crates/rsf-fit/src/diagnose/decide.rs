@@ -99,7 +99,7 @@ pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
         Cause::NormalStressCoupling => p.alpha = p2.alpha.clone(),
         // nothing to carry over: the baseline, a second state the first fit already has, or
         // a law change (its fit starts from its own law's parameters)
-        Cause::SecondStateVariable | Cause::None | Cause::EvolutionLaw => {}
+        Cause::SecondStateVariable | Cause::None | Cause::EvolutionLaw | Cause::Unexplained => {}
     }
     p
 }

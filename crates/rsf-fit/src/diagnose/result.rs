@@ -79,6 +79,9 @@ pub struct Candidate {
     pub drift_share_after: f64,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: Effect,
+    /// The adequacy test's excess for this extension's fit (1: its event windows look like
+    /// noise; `diagnose/adequacy.rs`); NaN where untestable.
+    pub adequacy_excess: f64,
     /// Integrator steps of the candidate's fits (its work; deterministic, unlike wall time).
     pub steps: u64,
     /// Its gain against the null distribution under the baseline (decisive, credible
@@ -89,8 +92,8 @@ pub struct Candidate {
     /// named: the data do not constrain it).
     pub at_bound: Vec<String>,
     /// Set when the effect, though decisive, is below what the record or the lab's nominal
-    /// values resolve: a fitted stiffness within [`super::STIFFNESS_CALIBRATION`] of the
-    /// nominal, or an added state with Dc shorter than the slip between two samples at the
+    /// values resolve: a fitted stiffness within [`super::STIFFNESS_SIGMAS`] stated uncertainties
+    /// of the nominal, or an added state with Dc shorter than the slip between two samples at the
     /// fastest rate. Such a candidate is not named.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unresolved: Option<String>,
@@ -161,8 +164,16 @@ pub struct Diagnosis {
     pub extended: Option<FitResult>,
     /// Gain of the extension.
     pub gain: Option<Gain>,
-    /// Effect parameters of the chosen extension.
+    /// Effect parameters of the chosen extension (for `unexplained`, of the best partial one).
     pub effect: Effect,
+    /// For `unexplained`: the extension that helps most though its model still misfits (its
+    /// fit is `extended`, its gain `gain`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub partial: Option<Cause>,
+    /// The adequacy test of the model named (the baseline for `none`; the best partial
+    /// extension's, or the baseline's, for `unexplained`): whether it explains the record's
+    /// events to the noise level, and where it does not.
+    pub adequacy: super::Adequacy,
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
     /// When the record does not tell a cut-off velocity from a share of time-dependent healing

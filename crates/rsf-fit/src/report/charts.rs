@@ -230,3 +230,39 @@ pub fn events_svg(d: &Diagnosis) -> Result<String, PlotError> {
     }
     render("", &panels, 2, (490, 340))
 }
+
+/// The adequacy test's figure: each tested event window's misfit (rms of its bin means) against
+/// the time of its event, over the noise band (the same statistic in quiet placebo windows of
+/// the same length: the band spans the median placebo set's rms and the level above which the
+/// model is inadequate). Empty when the test could not run.
+pub fn adequacy_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let a = &d.adequacy;
+    if a.events.is_empty() || !(a.noise_rms > 0.0) {
+        return Ok(String::new());
+    }
+    let mut ev: Vec<_> = a.events.iter().collect();
+    ev.sort_by(|x, y| x.t.total_cmp(&y.t));
+    let steps: Vec<(f64, f64)> = ev.iter().filter(|e| e.event == "step").map(|e| (e.t, e.rms)).collect();
+    let reslides: Vec<(f64, f64)> = ev.iter().filter(|e| e.event == "reslide").map(|e| (e.t, e.rms)).collect();
+    let limit = a.noise_rms * crate::diagnose::ADEQUACY_EXCESS.sqrt();
+    let mut panel = Panel::new(
+        format!("Misfit by event: {} (excess {})", a.verdict.as_str(), fmt_num(a.excess, 3)),
+        "time of the event (s)",
+        "event-locked misfit (rms of bin means)",
+    )
+    .log_y()
+    .band(a.noise_rms / 3.0, limit);
+    if !steps.is_empty() {
+        panel = panel.with(Series::points("velocity steps".to_string(), steps, BASELINE));
+    }
+    if !reslides.is_empty() {
+        panel = panel.with(Series::points("reslides after holds".to_string(), reslides, EXTENDED));
+    }
+    let (t0, t1) = (ev.first().map_or(0.0, |e| e.t), ev.last().map_or(1.0, |e| e.t));
+    panel = panel.with(Series::dashed(
+        "noise band (quiet windows)".to_string(),
+        vec![(t0, a.noise_rms), (t1, a.noise_rms)],
+        GREY,
+    ));
+    render("", &[panel], 1, (760, 340))
+}

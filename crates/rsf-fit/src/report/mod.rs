@@ -23,7 +23,7 @@ mod design;
 mod sections;
 mod words;
 
-pub use charts::{events_svg, fit_svg, fit_title, models_svg, noise_svg, residuals_svg};
+pub use charts::{adequacy_svg, events_svg, fit_svg, fit_title, models_svg, noise_svg, residuals_svg};
 pub use design::{design_html, design_svg};
 pub use words::{effect_summary, param_rows, verdict};
 
@@ -88,6 +88,7 @@ pub fn diagnosis_html(d: &Diagnosis, name: &str) -> String {
         sections::parameters(d),
         sections::models(d),
         sections::residuals(d),
+        sections::adequacy(d),
         sections::noise(d),
         sections::events(d),
         sections::candidates(d),

@@ -277,6 +277,65 @@ pub(super) fn events(d: &Diagnosis) -> String {
     )
 }
 
+/// The adequacy test of the model named: in words, the figure of misfit by event against the
+/// noise band, and the worst events.
+pub(super) fn adequacy(d: &Diagnosis) -> String {
+    let a = &d.adequacy;
+    let what = match d.cause {
+        crate::diagnose::Cause::None => "the baseline".to_string(),
+        _ if d.extended.is_some() => format!("the model with {}", cause_words(d.partial.unwrap_or(d.cause))),
+        _ => "the baseline".to_string(),
+    };
+    let words = match a.verdict {
+        crate::diagnose::AdequacyVerdict::Untestable => format!(
+            "{what} could not be tested: fewer than {} events have a quiet stretch of sliding as long as their \
+             transient ({} Dc of slip) to compare with.",
+            crate::diagnose::MIN_WINDOWS,
+            crate::diagnose::WINDOW_DC
+        ),
+        crate::diagnose::AdequacyVerdict::Adequate => format!(
+            "{what} explains the record to its noise level where the events are: over {} event windows the \
+             misfit's bin means spread {}× as much (in variance) as in quiet windows of the same length (p = {}).",
+            a.windows,
+            fmt_num(a.excess, 3),
+            fmt_num(a.p_value, 2)
+        ),
+        crate::diagnose::AdequacyVerdict::Inadequate => format!(
+            "{what} does not explain the record: over {} event windows the misfit's bin means spread {}× as much \
+             (in variance) as in quiet windows of the same length — a chance of {} under noise alone. The misfit is \
+             locked to the protocol's events, so no noise model accounts for it.",
+            a.windows,
+            fmt_num(a.excess, 3),
+            fmt_num(a.p_value, 2)
+        ),
+    };
+    let rows: Vec<(String, Vec<String>)> = a
+        .events
+        .iter()
+        .take(8)
+        .map(|e| {
+            (
+                String::new(),
+                vec![
+                    format!("<l>{}", e.event),
+                    e.segment.to_string(),
+                    fmt_num(e.t, 5),
+                    fmt_num(e.window_s, 3),
+                    fmt_num(e.rms, 3),
+                    fmt_num(e.ratio, 3),
+                ],
+            )
+        })
+        .collect();
+    let head = ["<l>event", "segment", "t (s)", "window (s)", "misfit rms", "× its placebos"];
+    format!(
+        "<h2>Does the model explain the events?</h2><p class=\"note\">{}</p>{}{}\n",
+        esc(&words),
+        chart(charts::adequacy_svg(d)),
+        if rows.is_empty() { String::new() } else { table("", &head, &rows) }
+    )
+}
+
 /// Every candidate extension and its score.
 pub(super) fn candidates(d: &Diagnosis) -> String {
     // held-out rms in one form down both columns

@@ -15,6 +15,7 @@ pub(crate) fn cause_words(cause: Cause) -> &'static str {
         Cause::SlipTrend => "a slip trend",
         Cause::Stiffness => "a different machine stiffness",
         Cause::NormalStressCoupling => "a coupling of state to normal-stress changes",
+        Cause::Unexplained => "something outside the menu",
     }
 }
 
@@ -63,6 +64,8 @@ pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
         }
         "vc" => return ("Vc".into(), "µm/s", VC),
         "alpha" => return ("α".into(), "", ALPHA),
+        "c" => return ("c".into(), "", "Nagata's stress-weakening coefficient"),
+        "w" => return ("w".into(), "", "aging share of one state's evolution rate"),
         _ => {}
     }
     let Some(p) = ParamName::parse(key) else {
@@ -194,7 +197,11 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
             fmt_num(e.residual_lag1, 2),
             fmt_num(e.segment_rms_ratio, 2)
         ),
-        Cause::SlipTrend | Cause::SecondStateVariable | Cause::None | Cause::NormalStressCoupling => generic,
+        Cause::SlipTrend
+        | Cause::SecondStateVariable
+        | Cause::None
+        | Cause::NormalStressCoupling
+        | Cause::Unexplained => generic,
     }
 }
 
@@ -210,7 +217,14 @@ fn need(d: &Diagnosis) -> String {
             (Some(l), Some(share)) if l.contains('+') => {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
             }
-            (Some(l), _) => format!("the {} law instead of the {base_law} law", law_words(l)),
+            (Some(l), _) => {
+                let own = [("c", val("c")), ("w", val("w"))]
+                    .into_iter()
+                    .filter_map(|(k, v)| v.map(|v| format!("{} = {v}", param_meta(k).0)))
+                    .collect::<Vec<_>>();
+                let own = if own.is_empty() { String::new() } else { format!(" ({})", own.join(", ")) };
+                format!("the {} law{own} instead of the {base_law} law", law_words(l))
+            }
             _ => plain,
         },
         Cause::SecondStateVariable => match (val("b2"), val("dc2")) {
@@ -238,7 +252,7 @@ fn need(d: &Diagnosis) -> String {
             Some(a) => format!("a Linker–Dieterich coupling of state to normal-stress changes, α = {a}"),
             None => plain,
         },
-        Cause::None => plain,
+        Cause::None | Cause::Unexplained => plain,
     }
 }
 
@@ -254,6 +268,36 @@ pub fn verdict(d: &Diagnosis) -> String {
         ["no", "one", "two", "three"].get(laws.len()).map_or(laws.len().to_string(), |w| w.to_string()),
         if laws.len() == 1 { "" } else { "s" }
     );
+    if d.cause == Cause::Unexplained {
+        let a = &d.adequacy;
+        let mut s = format!(
+            "No model on the menu explains the record: {} still misfits where the protocol's events are — \
+             an event-locked misfit of rms {} against a noise band of {} ({}× the noise's variance; a chance \
+             of {} under noise alone)",
+            match d.partial {
+                Some(_) => format!("even the best extension, {},", need(d)),
+                None => format!("the {baseline}"),
+            },
+            fmt_num(a.event_rms, 2),
+            fmt_num(a.noise_rms, 2),
+            fmt_num(a.excess, 3),
+            fmt_num(a.p_value, 2)
+        );
+        let worst: Vec<String> = a
+            .events
+            .iter()
+            .take(3)
+            .map(|e| format!("the {} at t = {} s ({}× its placebos)", e.event, fmt_num(e.t, 4), fmt_num(e.ratio, 2)))
+            .collect();
+        if !worst.is_empty() {
+            s += &format!("; worst: {}", worst.join(", "));
+        }
+        if let Some(g) = &d.gain {
+            s += &format!("; the partial extension gains ΔBIC = {}", fmt_num(g.delta_bic, 3));
+        }
+        s += ". The cause lies outside the menu: a law or effect the library does not have.";
+        return esc(&s);
+    }
     if d.cause == Cause::None || d.gain.is_none() {
         let mut s = format!("The {baseline} explains the record; no extension earns its parameters");
         let best = d.candidates.iter().min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));

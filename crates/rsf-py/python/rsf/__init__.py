@@ -413,15 +413,20 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
 def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",
              loading: str = "protocol", seed: int = 1, threads: int = 0, normal_stress_mode: str = "auto",
              report: Optional[Union[str, os.PathLike]] = None, name: str = "record", progress: bool = False,
-             time=None, load_point=None, mu=None, normal_stress=None) -> Diagnosis:
+             time=None, load_point=None, mu=None, normal_stress=None,
+             stiffness_uncertainty: float = 0.02) -> Diagnosis:
     """Diagnoses a record as ``rsf diagnose`` does: a :class:`Diagnosis` (``cause``, ``gain``,
-    ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, …; ``write_report``).
+    ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, ``adequacy``, ``partial``,
+    …; ``write_report``). ``cause`` is ``"unexplained"`` when no model on the menu explains the
+    record's events to its noise level. ``stiffness_uncertainty`` is the nominal stiffness's
+    relative uncertainty (one standard deviation), as ``--stiffness-uncertainty``.
     The result depends on the record, the options and ``seed`` only (not on ``threads``).
     ``progress=True`` prints each finished fit on stderr.
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
     raw, html = _rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn, normal_stress_mode,
-                                   None if report is None else os.fspath(report), name, progress)
+                                   None if report is None else os.fspath(report), name, progress,
+                                   float(stiffness_uncertainty))
     return Diagnosis(json.loads(raw), html)
 
 def design(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",

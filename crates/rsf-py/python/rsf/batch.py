@@ -80,5 +80,6 @@ def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffn
                   client: Any = None, *, fit: bool = False, progress: bool = False, **options):
     """Diagnoses every record, as ``rsf batch --diagnose`` does (``fit=True``: ``--fit
     --diagnose``); see :func:`fit_many`. The table adds ``cause``, ``delta_bic``,
-    ``rms_ratio``, ``effect``, ``runner_up`` and ``drift_rms``."""
+    ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess`` and
+    ``drift_rms``."""
     return _many(manifest_or_paths, stiffness, client, fit, True, progress, options)
