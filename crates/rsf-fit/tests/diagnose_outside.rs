@@ -3,7 +3,7 @@
 //! a law of the library is named as the law, with its own parameter measured; a law no library
 //! has is `unexplained`, never a confident wrong cause. Each record: one state, a = 0.008,
 //! b = 0.011, Dc = 5 µm, white noise 1.5e-4 (PRZ: plus AR(1) of 1e-4, τ = 2 s); steps of
-//! 0.5–1.5 decades and holds.
+//! 0.5–2 decades and holds.
 //!
 //! On the main before issue 38 the PRZ, Nagata and one-state-mixture records could not be named
 //! with their law (no such candidate) and the power-law-aging record was named

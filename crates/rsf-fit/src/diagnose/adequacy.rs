@@ -9,9 +9,13 @@
 //! windows, inside sliding segments after their own transient), instead of asking a fitted
 //! noise model — whose drift part can absorb the misfit it should expose.
 //!
-//! **Statistic.** In each window the residuals are averaged in bins of logarithmically
-//! growing width in the time since its start (a transient decays in log time), and the bin
-//! means' spread about their mean is taken: Q = mean over bins of (r̄_b − r̄)². The window's
+//! **Statistic.** In each window the residuals are averaged in bins of logarithmically growing
+//! width in the time since its start (a transient decays in log time), and the bin means' spread
+//! about their mean is taken, Q = mean over bins of (r̄_b − r̄)², after the part of it along the
+//! bin means of the model's own rate of change after the event is taken out: a shift of the
+//! event's time, which a noisy load point leaves uncertain by a fraction of a second and whose
+//! misfit is locked to the event without being physics. Each placebo takes out the same shape at
+//! the same times since its start, so event and placebos lose the same freedom. The window's
 //! mean is left out, so a slow drift's offset does not count; the bin means are unweighted, so
 //! a densely sampled window (after a step) is no noisier than a sparse placebo (conservative
 //! for a variably sampled record). T = Σ_w Q_w over the event windows.
@@ -24,7 +28,9 @@
 //! Q over its placebos' typical (geometric-mean) Q: 1 for noise alone.
 //!
 //! **Verdict.** Inadequate when p < [`ADEQUACY_LEVEL`] *and* the excess is above
-//! [`ADEQUACY_EXCESS`]: significant and as large as the noise itself. Untestable when no
+//! [`ADEQUACY_EXCESS`] (significant, and as large as the noise itself), or when p <
+//! [`ADEQUACY_LEVEL_LARGE`] and the excess is above [`ADEQUACY_EXCESS_LARGE`] (a misfit twice
+//! the noise in rms needs less significance). Untestable when no
 //! event window has its placebos (steps too close together for a quiet stretch of sliding as
 //! long as a transient).
 
@@ -38,13 +44,22 @@ pub const PLACEBOS: usize = 199;
 /// An event window is tested only against at least this many disjoint placebos: fewer cannot
 /// say how the noise's own window statistic scatters.
 pub const MIN_PLACEBOS: usize = 10;
-/// The test's level: a model is inadequate when the event windows' misfit exceeds all but 1 % of
-/// the placebo sets'.
+/// The test's level: a model is inadequate when so large an event-locked misfit arises by
+/// chance with probability below 1 %…
 pub const ADEQUACY_LEVEL: f64 = 0.01;
 /// …and when the event-locked misfit carries at least as much variance as the noise does in
 /// windows of the same length (excess 2): a misfit as large as the noise is visible in a plot
 /// of the residuals; a smaller one, though significant in a long record, is at the noise level.
 pub const ADEQUACY_EXCESS: f64 = 2.0;
+/// A larger misfit needs less significance: inadequate also when p is below 5 %…
+pub const ADEQUACY_LEVEL_LARGE: f64 = 0.05;
+/// …and the misfit's rms is at least twice the noise's (excess 4, as large in variance as three
+/// noises). With few event windows, each ranked against placebos of a heavy-tailed real noise,
+/// p cannot fall far however large the misfit; a misfit of twice the noise at p < 0.05 is not
+/// "the noise level". (Added after the `--outside` study showed wrong models of excess 11–80
+/// passing at p 0.01–0.05; its false-alarm rate is measured on the 111-record and 1/f sets,
+/// which did not choose it.)
+pub const ADEQUACY_EXCESS_LARGE: f64 = 4.0;
 /// An event's window spans this many Dc of load-point slip after it (the longest Dc of the
 /// model): a transient has decayed to e^(−3) ≈ 5 % of its size by then, so a placebo after it
 /// holds a twentieth of an event's misfit at most — and a lab's segments, often only a few Dc
@@ -153,26 +168,69 @@ impl Adequacy {
     }
 }
 
-/// One window: the curve's samples in [t0, t0 + len), binned by time since t0.
-fn window_q(time: &[f64], res: &[f64], t0: f64, len: f64) -> Option<f64> {
+/// One window's Q: the curve's samples in [t0, t0 + len) averaged in bins of time since t0, the
+/// bin means' spread about their mean after its part along the bin means of `shape` is taken
+/// out. `shape` is the event's own nuisance, the model's rate of change after the event as (time
+/// since the event, rate) pairs: a shift of the event's time. A placebo takes out the same shape
+/// at the same times since its start, so that event and placebos lose the same freedom and
+/// stay exchangeable; the spread can only shrink.
+fn window_q(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) -> Option<f64> {
     let i0 = time.partition_point(|&t| t < t0);
     let i1 = time.partition_point(|&t| t < t0 + len);
     if i1 <= i0 {
         return None;
     }
-    let mut sums = [(0.0f64, 0usize); BIN_EDGES.len() - 1];
+    // bin sums of the residuals and of the shape
+    let mut sums = [(0.0f64, 0.0f64, 0usize); BIN_EDGES.len() - 1];
     for i in i0..i1 {
         let u = (time[i] - t0) / len;
         let b = BIN_EDGES[1..].partition_point(|&e| e <= u).min(sums.len() - 1);
         sums[b].0 += res[i];
-        sums[b].1 += 1;
+        sums[b].1 += interpolate(shape, time[i] - t0);
+        sums[b].2 += 1;
     }
-    let means: Vec<f64> = sums.iter().filter(|s| s.1 > 0).map(|s| s.0 / s.1 as f64).collect();
+    let means: Vec<(f64, f64)> =
+        sums.iter().filter(|s| s.2 > 0).map(|s| (s.0 / s.2 as f64, s.1 / s.2 as f64)).collect();
     if means.len() < MIN_BINS {
         return None;
     }
-    let m = means.iter().sum::<f64>() / means.len() as f64;
-    Some(means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / means.len() as f64)
+    let n = means.len() as f64;
+    let (mr, mg) = (means.iter().map(|m| m.0).sum::<f64>() / n, means.iter().map(|m| m.1).sum::<f64>() / n);
+    // the shift that best explains the bin means' spread, taken out of it (so the spread can
+    // only shrink, in an event window and in its placebos alike)
+    let (rg, gg) = means.iter().fold((0.0, 0.0), |(rg, gg), m| (rg + (m.0 - mr) * (m.1 - mg), gg + (m.1 - mg).powi(2)));
+    let shift = if gg > 0.0 { rg / gg } else { 0.0 };
+    Some(means.iter().map(|m| (m.0 - mr - shift * (m.1 - mg)).powi(2)).sum::<f64>() / n)
+}
+
+/// `shape` (sorted by its first member) at `x`, linearly interpolated, held at its ends.
+fn interpolate(shape: &[(f64, f64)], x: f64) -> f64 {
+    let k = shape.partition_point(|p| p.0 < x);
+    match (k.checked_sub(1).and_then(|j| shape.get(j)), shape.get(k)) {
+        (Some(&(xa, ya)), Some(&(xb, yb))) if xb > xa => ya + (yb - ya) * (x - xa) / (xb - xa),
+        (_, Some(&(_, y))) | (Some(&(_, y)), None) => y,
+        (None, None) => 0.0,
+    }
+}
+
+/// The model's rate after the event at `t0`, over `len` s: (time since `t0`, rate) pairs.
+fn event_shape(time: &[f64], rate: &[f64], t0: f64, len: f64) -> Vec<(f64, f64)> {
+    let i0 = time.partition_point(|&t| t < t0);
+    let i1 = time.partition_point(|&t| t < t0 + len);
+    (i0..i1).map(|i| (time[i] - t0, rate[i])).collect()
+}
+
+/// The model's rate of change at each sample, friction/s (central differences; one-sided at
+/// the ends).
+fn model_rate(time: &[f64], model: &[f64]) -> Vec<f64> {
+    let n = time.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n.saturating_sub(1)));
+            let dt = time[b] - time[a];
+            if dt > 0.0 { (model[b] - model[a]) / dt } else { 0.0 }
+        })
+        .collect()
 }
 
 /// A tested event window: its segment index, start, what happened, length, Q, and its
@@ -183,6 +241,7 @@ type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
 pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
+    let rate = model_rate(&c.time, &c.model);
     let dc_max = f.params.dc.iter().copied().fold(0.0f64, f64::max);
     let time = &c.time;
     // each sliding segment's transient window after the event that starts it
@@ -216,9 +275,10 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
     };
     let mut tested: Vec<Tested> = vec![];
     for &(j, t0, len, what) in &events {
-        let Some(q) = window_q(time, &res, t0, len) else { continue };
+        let shape = event_shape(time, &rate, t0, len);
+        let Some(q) = window_q(time, &res, &shape, t0, len) else { continue };
         let placebo: Vec<f64> =
-            tiles(len).into_iter().filter_map(|s| window_q(time, &res, s, len)).filter(|q| *q > 0.0).collect();
+            tiles(len).into_iter().filter_map(|s| window_q(time, &res, &shape, s, len)).filter(|q| *q > 0.0).collect();
         if placebo.len() >= MIN_PLACEBOS && q > 0.0 {
             tested.push((j, t0, what, len, q, placebo));
         }
@@ -271,11 +331,9 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
     // the typical window's: the geometric mean over the windows of Q over its placebos' typical Q
     let excess = (ln_excess / n).exp();
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
-    let verdict = if p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS {
-        AdequacyVerdict::Inadequate
-    } else {
-        AdequacyVerdict::Adequate
-    };
+    let inadequate = (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
+        || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE);
+    let verdict = if inadequate { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
         verdict,
         excess,
@@ -296,11 +354,30 @@ mod tests {
     fn a_step_shaped_residual_has_spread_and_a_flat_one_none() {
         let time: Vec<f64> = (0..1000).map(|i| i as f64 * 0.1).collect();
         let flat = vec![1e-3; 1000];
-        assert_eq!(window_q(&time, &flat, 0.0, 100.0), Some(0.0));
+        let still = vec![];
+        assert!(window_q(&time, &flat, &still, 0.0, 100.0).unwrap() < 1e-30);
         let decaying: Vec<f64> = time.iter().map(|t| 1e-3 * (-t / 2.0).exp()).collect();
-        let q = window_q(&time, &decaying, 0.0, 100.0).unwrap();
+        let q = window_q(&time, &decaying, &still, 0.0, 100.0).unwrap();
         assert!(q > 1e-8, "{q}");
         // too few bins filled: a window of three samples
-        assert_eq!(window_q(&time, &flat, 0.0, 0.25), None);
+        assert_eq!(window_q(&time, &flat, &still, 0.0, 0.25), None);
+    }
+
+    /// A residual that is the model's transient shifted in time (a break time read late) is
+    /// taken out; a misfit of another shape is not.
+    #[test]
+    fn a_shifted_break_is_not_a_misfit() {
+        let time: Vec<f64> = (0..2000).map(|i| i as f64 * 0.01).collect();
+        let model: Vec<f64> = time.iter().map(|t| 0.6 + 0.01 * (-t / 0.5).exp()).collect();
+        let late: Vec<f64> = time.iter().map(|t| 0.6 + 0.01 * (-(t - 0.003) / 0.5).exp()).collect();
+        let rate = model_rate(&time, &model);
+        let res: Vec<f64> = late.iter().zip(&model).map(|(d, m)| d - m).collect();
+        let shape = event_shape(&time, &rate, 0.0, 20.0);
+        let raw = window_q(&time, &res, &[], 0.0, 20.0).unwrap();
+        let shifted = window_q(&time, &res, &shape, 0.0, 20.0).unwrap();
+        assert!(shifted < 1e-4 * raw, "{shifted:e} vs {raw:e}");
+        let other: Vec<f64> = time.iter().map(|t| 1e-4 * (t / 20.0)).collect();
+        let q = window_q(&time, &other, &shape, 0.0, 20.0).unwrap();
+        assert!(q > 1e-11, "{q:e}");
     }
 }

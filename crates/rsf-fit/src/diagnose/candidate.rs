@@ -2,7 +2,7 @@
 //! starts), its held-out test, its null calibration, and a second cause on top of the first.
 
 use super::cause::{Cause, builtin, effect_of, library_laws, other_law};
-use super::decide::{heldout_ok, ineligible, merge};
+use super::decide::{BLIND_DECISIVE, heldout_ok, ineligible, merge};
 use super::evidence::{Noisy, noisy, scores};
 use super::heldout::heldout;
 use super::null::{calibrate, gain, replicate, replicate_load_point};
@@ -17,13 +17,6 @@ use rsf_laws::Law;
 /// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
 /// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
 const TRAINING_BLIND_FACTOR: f64 = 10.0;
-
-/// A candidate the held-out test cannot judge, or whose null replicates cannot calibrate it
-/// (`NullCalibration::uninformative`), must earn ten times the decisive ΔBIC instead: one check
-/// fewer, more evidence. (The detection study's record 55, plain friction with AR(1)
-/// noise, spikes and encoder noise, scores a spurious cut-off of ΔBIC −34 that only the
-/// held-out test caught; record 82's real cut-off scores −4006.)
-pub(super) const BLIND_DECISIVE: f64 = 10.0 * DECISIVE;
 
 /// A candidate's held-out training fit may do this many times the work of the baseline's
 /// training fit, and at least `HELDOUT_MIN_STEPS` integrator steps. (On the 60–75k-row records

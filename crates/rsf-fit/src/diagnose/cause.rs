@@ -6,13 +6,13 @@ use rsf_laws::Law;
 use serde::Serialize;
 use std::sync::Arc;
 
-/// What a fitted model gets wrong (serialised as its snake_case name).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// What a fitted model gets wrong (serialised as its snake_case name, [`Cause::name`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Cause {
     /// Nothing: no extension earns its parameters.
     None,
-    /// The evolution law: the other law, or a share of time-dependent (Aging) healing.
+    /// The evolution law: the other classic law, a share of time-dependent (Aging) healing, or a
+    /// law of the library (PRZ, Nagata, the one-state Aging–Slip mixture) with its own parameters.
     EvolutionLaw,
     /// A second state variable.
     SecondStateVariable,
@@ -42,48 +42,14 @@ impl Cause {
         Cause::NormalStressCoupling,
     ];
 
-    /// Every cause: `none`, the candidates, `unexplained`.
-    pub const ALL: [Cause; 8] = [
-        Cause::None,
-        Cause::EvolutionLaw,
-        Cause::SecondStateVariable,
-        Cause::CutoffVelocity,
-        Cause::SlipTrend,
-        Cause::Stiffness,
-        Cause::NormalStressCoupling,
-        Cause::Unexplained,
-    ];
-
-    /// The cause named `s` (its [`as_str`](Self::as_str) name, as in JSON).
+    /// The cause named `s` (its [`name`](Self::name), as in JSON).
     pub fn parse(s: &str) -> Option<Cause> {
-        Self::ALL.into_iter().find(|c| c.as_str() == s)
+        s.parse().ok()
     }
 
-    /// Whether this is one of the candidate extensions (not `none` or `unexplained`).
-    pub fn is_candidate(self) -> bool {
-        match self {
-            Self::None | Self::Unexplained => false,
-            Self::EvolutionLaw
-            | Self::SecondStateVariable
-            | Self::CutoffVelocity
-            | Self::SlipTrend
-            | Self::Stiffness
-            | Self::NormalStressCoupling => true,
-        }
-    }
-
-    /// The snake_case name (as in JSON).
+    /// The snake_case name (as in JSON): [`Cause::name`].
     pub fn as_str(self) -> &'static str {
-        match self {
-            Self::None => "none",
-            Self::EvolutionLaw => "evolution_law",
-            Self::SecondStateVariable => "second_state_variable",
-            Self::CutoffVelocity => "cutoff_velocity",
-            Self::SlipTrend => "slip_trend",
-            Self::Stiffness => "stiffness",
-            Self::NormalStressCoupling => "normal_stress_coupling",
-            Self::Unexplained => "unexplained",
-        }
+        self.name()
     }
 
     /// The extension in words, for a baseline of `base_law`.
@@ -279,12 +245,16 @@ impl Effect {
     }
 }
 
-impl std::fmt::Display for Cause {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        // pad: tables align causes with `{:24}`
-        f.pad(self.as_str())
-    }
-}
+rsf_core::vocabulary!(Cause, "cause", {
+    None => "none",
+    EvolutionLaw => "evolution_law",
+    SecondStateVariable => "second_state_variable",
+    CutoffVelocity => "cutoff_velocity",
+    SlipTrend => "slip_trend",
+    Stiffness => "stiffness",
+    NormalStressCoupling => "normal_stress_coupling",
+    Unexplained => "unexplained",
+});
 
 /// The effect parameters of `causes` applied together in the fit `f`.
 pub fn effect_of(causes: &[Cause], f: &FitResult) -> Effect {

@@ -67,7 +67,8 @@ mod timing;
 mod whittle;
 
 pub use adequacy::{
-    ADEQUACY_EXCESS, ADEQUACY_LEVEL, Adequacy, AdequacyVerdict, EventMisfit, MIN_WINDOWS, PLACEBOS, WINDOW_DC, adequacy,
+    ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, Adequacy, AdequacyVerdict,
+    EventMisfit, MIN_WINDOWS, PLACEBOS, WINDOW_DC, adequacy,
 };
 pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectValue, effect_of};

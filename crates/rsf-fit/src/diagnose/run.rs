@@ -202,7 +202,10 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let (base_opts, p, base, timing) = match mask {
         Some(m) if opts.timing_mask && base_opts.loading == LoadingMode::Protocol => {
             // refit without the samples the protocol's timing cannot predict, from the optimum
-            let mut om = FitOptions { exclude: m.windows.clone(), ..base_opts.clone() };
+            // added to what the reconstruction check already left out (a short suspect
+            // segment stays out of every fit, as the report says)
+            let exclude = base_opts.exclude.iter().chain(&m.windows).copied().collect();
+            let mut om = FitOptions { exclude, ..base_opts.clone() };
             // a few samples fewer: one start, warm from the optimum
             let warm = FitOptions { initial: base.params.as_initial(), starts: 1, ..om.clone() };
             let pm = prepare(rec, segs, &om)?;
@@ -397,13 +400,13 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             partial = best.map(|b| b.cause);
             reason = match best {
                 Some(b) => format!(
-                    "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named                      model's cause lies outside the menu (before: {reason})",
+                    "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named model's cause lies outside the menu (before: {reason})",
                     b.extension,
                     b.delta_bic,
                     adequacy.words()
                 ),
                 None => format!(
-                    "not explained: no extension on the menu earns its parameters, yet the baseline {};                      the cause lies outside the menu (before: {reason})",
+                    "not explained: no extension on the menu earns its parameters, yet the baseline {}; the cause lies outside the menu (before: {reason})",
                     adequacy.words()
                 ),
             };
@@ -432,7 +435,15 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                 .map(|c2| vec![(first, c1), (other, c2.delta_bic)])
                 .unwrap_or_default()
         }
-        _ => vec![],
+        Some(
+            Cause::None
+            | Cause::SecondStateVariable
+            | Cause::SlipTrend
+            | Cause::Stiffness
+            | Cause::NormalStressCoupling
+            | Cause::Unexplained,
+        )
+        | None => vec![],
     };
     if let [(a, da), (b, db)] = undecided[..] {
         reason += &format!(
