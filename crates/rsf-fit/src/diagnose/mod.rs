@@ -35,6 +35,7 @@
 //! | `evidence.rs` | residual statistics, n_eff, reload-slope stiffness, ΔBIC/ΔAIC |
 //! | `noise.rs` | the residuals' noise model: spectrum fit, likelihood, synthesis |
 //! | `sampling.rs` | the noise model in time of a variably sampled record (state-space likelihood) |
+//! | `timed.rs` | the noise model at a record's sample times: which of the two forms applies |
 //! | `whittle.rs` | Whittle's likelihood of a three-part spectrum: periodogram, amplitudes, standard errors |
 //! | `starts.rs` | fits of an extension from a nested optimum (and the Vc profile) |
 //! | `heldout.rs` | the held-out test: split, training part, prediction |
@@ -63,6 +64,7 @@ mod result;
 mod run;
 mod sampling;
 mod starts;
+mod timed;
 mod timing;
 mod whittle;
 

@@ -21,8 +21,7 @@
 //!
 //! A variably sampled record (100 Hz after a step, 1 Hz in a hold) gets the same three parts
 //! defined in time instead of sample index, an exact state-space likelihood and replicates in
-//! time: `diagnose/sampling.rs` ([`NoiseModel::fit_at`] chooses; the methods that choose live
-//! there, so that this file does not depend on it).
+//! time: `diagnose/sampling.rs` ([`NoiseModel::fit_at`] chooses, in `diagnose/timed.rs`).
 
 use rand_distr::{Distribution, StandardNormal};
 use rustfft::FftPlanner;
