@@ -221,6 +221,20 @@ def jitter(rng, ts):
     return out
 
 
+def sample_times(rng, segs, feats):
+    """Segment start times, sample times and the fastest sampling interval of a protocol, with
+    the sampling features of `feats` (variable sampling, time jitter)."""
+    if "variable_sampling" in feats:
+        seg_t = np.r_[0.0, np.cumsum([s[0] for s in segs])]
+        ts, dt_fast = variable_grid(rng, segs, seg_t), 0.1
+    else:
+        seg_t, ts = uniform_grid(rng, segs)
+        dt_fast = ts[1] - ts[0]
+    if "time_jitter" in feats:
+        ts = jitter(rng, ts)
+    return seg_t, ts, dt_fast
+
+
 # ---------------------------------------------------------------- parameters
 def sample_truth(rng, material, cause, size, sign, dc_lo, dc_hi, k_lo):
     """Material parameters, the hidden effect, and a stable machine (true k >= 8 kc)."""
@@ -362,14 +376,7 @@ def make_record(spec, rng):
         segs, label = protocol_rock(rng, max_hold) if rock else \
             protocol_gouge(rng, dc_g, cause == "cutoff_velocity")
         vmax = max(s[1] for s in segs)
-        if "variable_sampling" in feats:
-            seg_t = np.r_[0.0, np.cumsum([s[0] for s in segs])]
-            ts, dt_fast = variable_grid(rng, segs, seg_t), 0.1
-        else:
-            seg_t, ts = uniform_grid(rng, segs)
-            dt_fast = ts[1] - ts[0]
-        if "time_jitter" in feats:
-            ts = jitter(rng, ts)
+        seg_t, ts, dt_fast = sample_times(rng, segs, feats)
         dc_lo, dc_hi = (max(1.0, 1.5 * vmax * dt_fast), 20.0) if rock else (dc_g, dc_g)
         p, effect, k_nom = sample_truth(rng, spec["material"], cause, size, sign, dc_lo, dc_hi, k_lo)
         seg_v = [s[1] for s in segs]
@@ -610,14 +617,7 @@ def make_outside_record(spec, rng):
     for attempt in range(40):
         segs, label = protocol_outside(rng, holds)
         vmax = max(s[1] for s in segs)
-        if "variable_sampling" in feats:
-            seg_t = np.r_[0.0, np.cumsum([s[0] for s in segs])]
-            ts, dt_fast = variable_grid(rng, segs, seg_t), 0.1
-        else:
-            seg_t, ts = uniform_grid(rng, segs)
-            dt_fast = ts[1] - ts[0]
-        if "time_jitter" in feats:
-            ts = jitter(rng, ts)
+        seg_t, ts, dt_fast = sample_times(rng, segs, feats)
         seg_v = [s[1] for s in segs]
         vpos = [v for v in seg_v if v > 0]
         x_span = max(-math.log(min(vpos) / seg_v[0]), math.log(max(vpos) / seg_v[0])) + 1.0
