@@ -31,6 +31,8 @@ rsf fit RECORD --stiffness K [options]                     # fit a model, with u
 rsf diagnose RECORD --stiffness K [options]                # what the fitted model gets wrong
 rsf design RECORD --stiffness K [options]                  # the next experiment that settles it
 rsf batch MANIFEST.csv|FOLDER --out DIR --fit|--diagnose   # a whole archive, resumable
+rsf laws                                                   # the laws rsf knows, with their parameters
+rsf check-law LAW.toml                                     # the conformance kit on a law file
 ```
 
 Units everywhere: time s, displacement and Dc µm, velocities µm/s, stiffness k in 1/µm (machine
@@ -38,11 +40,14 @@ stiffness over normal stress: 0.3 MPa/µm at 20 MPa is k = 0.015/µm). Every com
 results (tables) on standard output and progress, timings and warnings on standard error. On
 any error it prints `error: …` naming the file, line and column or field, or the time and
 values of a failed integration, and exits with status 1. Output files (`-o`, `--plot`,
-`--json`, `--report`) are written only after the work succeeds; an existing file is rewritten
-in place and trimmed to its new length, not truncated first (on ext4 a truncate-and-rewrite is
-flushed to disk on close, which cost more than formatting a simulation's CSV). A run killed
-while it writes can therefore leave the start of the new output followed by the end of the
-old one; run it again.
+`--json`, `--report`) are written only after the work succeeds, into a temporary file beside
+the target that is renamed over it when complete: a killed run leaves the old file or the new
+one, never a mix; an output that would overwrite one of the command's inputs is refused before
+any work starts.
+
+`--law-file FILE` (before or after the subcommand, repeatable) registers the law of a law file
+(docs/laws.md) for the command: its name is then a law for `--law`, `--laws`, protocols and
+manifests, and a candidate of every diagnosis.
 
 EOF
 help
@@ -151,5 +156,25 @@ HTML). The same table from Python and Dask: [scale.md](scale.md).
 
 EOF
 help batch
+cat <<'EOF'
+
+## `rsf laws`
+
+The registry: the built-in laws, then those registered by `--law-file`, each with its
+parameters' units, ranges, scales and starts (`rsf --law-file examples/laws/power_aging.toml
+laws`).
+
+EOF
+help laws
+cat <<'EOF'
+
+## `rsf check-law`
+
+The conformance kit (docs/laws.md) on a law file, or on a built-in or file-registered law by
+name; status 1 naming the first property that fails and the smallest input that shows it
+(`rsf check-law examples/laws/power_aging.toml --steady-state-dc-over-v`).
+
+EOF
+help check-law
 } > "$out"
 echo "wrote $out"

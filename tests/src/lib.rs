@@ -3,6 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+/// The code blocks of docs/laws.md, compiled and run as doctests (they use the example law
+/// crate `my_rsf_law`, which no longer carries them, so that it can be copied out alone).
+#[doc = include_str!("../../docs/laws.md")]
+pub mod laws_md {}
+
 /// This crate's directory.
 pub fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -6,7 +6,6 @@ use clap::{Parser, Subcommand};
 use rsf_fit::data::{DispUnit, DuplicateTimes, TimeUnit};
 use rsf_fit::diagnose::Baseline;
 use rsf_fit::fit::{AlphaFit, LoadingMode, NormalStressMode, Weighting};
-use rsf_laws::Law;
 use std::path::PathBuf;
 
 /// clap's parser for a closed vocabulary: the type's own `FromStr`, shared with Python and the
@@ -18,6 +17,11 @@ fn word<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
 #[derive(Parser)]
 #[command(name = "rsf", version, about = "Rate-and-state friction: simulate lab friction experiments")]
 pub(crate) struct Cli {
+    /// A law file (TOML: the rate as an expression, its parameters; docs/laws.md) to register
+    /// before the command runs; its law is then a name for --law, --laws, protocols and
+    /// manifests, and a candidate of every diagnosis. Repeat for several.
+    #[arg(long = "law-file", global = true, value_name = "FILE")]
+    pub(crate) law_file: Vec<PathBuf>,
     #[command(subcommand)]
     pub(crate) command: Command,
 }
@@ -138,6 +142,24 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 0.3)]
         min_duration: f64,
     },
+    /// Check a law file (or a registered law by name) with the conformance kit: the rate and
+    /// its derivatives are finite and exact, the steady state is an attracting root, time and
+    /// length units rescale, the V_i·t identity holds for a law without a velocity scale, the
+    /// integrators agree, and each parameter can be set and has an exact derivative
+    /// (docs/laws.md). A parameter whose unit is µm/s or µm is rescaled with the units.
+    CheckLaw {
+        /// The law file (TOML), or the name of a law already registered.
+        law: String,
+        /// Random cases per property (256 when not given).
+        #[arg(long)]
+        cases: Option<u32>,
+        /// Also check the claim that the steady state is θ = s·Dc/V (s: the law's theta_scale).
+        #[arg(long)]
+        steady_state_dc_over_v: bool,
+    },
+    /// List the laws rsf knows — built in and registered by --law-file — with their
+    /// parameters' units, ranges and starts.
+    Laws,
     /// Simulate a spring-slider protocol described in a TOML file.
     #[command(long_about = SIMULATE_HELP)]
     Simulate {
@@ -321,9 +343,10 @@ pub(crate) struct BatchArgs {
     /// Unit of the time column: s or ms.
     #[arg(long, value_parser = word::<TimeUnit>)]
     pub(crate) time_unit: Option<TimeUnit>,
-    /// Evolution law of the fit: aging, slip, kato-tullis, prz, nagata (default slip).
-    #[arg(long, value_parser = word::<Law>)]
-    pub(crate) law: Option<Law>,
+    /// Evolution law of the fit: aging, slip, kato-tullis, prz, nagata, aging-slip or a law
+    /// registered by --law-file (default slip).
+    #[arg(long)]
+    pub(crate) law: Option<String>,
     /// Baseline law of the diagnosis: slip or aging (default slip).
     #[arg(long, value_parser = word::<Baseline>)]
     pub(crate) baseline: Option<Baseline>,
@@ -357,9 +380,10 @@ pub(crate) struct FitArgs {
     pub(crate) data: PathBuf,
     #[command(flatten)]
     pub(crate) read: DataArgs,
-    /// Evolution law of every state variable: aging, slip, kato-tullis, prz, nagata.
-    #[arg(long, default_value = "slip", value_parser = word::<Law>)]
-    pub(crate) law: Law,
+    /// Evolution law of every state variable: aging, slip, kato-tullis, prz, nagata,
+    /// aging-slip or a law registered by --law-file.
+    #[arg(long, default_value = "slip")]
+    pub(crate) law: String,
     /// Laws per state, comma-separated (overrides --law and --states), e.g. slip,aging.
     #[arg(long)]
     pub(crate) laws: Option<String>,

@@ -21,8 +21,8 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 /// The batch-wide options: the command line's, which a manifest's cells override.
-fn defaults(a: &BatchArgs) -> RecordOptions {
-    RecordOptions {
+fn defaults(a: &BatchArgs) -> Result<RecordOptions> {
+    Ok(RecordOptions {
         stiffness: a.stiffness,
         time_col: a.time_col.clone(),
         lp_col: a.lp_col.clone(),
@@ -34,14 +34,14 @@ fn defaults(a: &BatchArgs) -> RecordOptions {
         time_unit: a.time_unit,
         t_min: None,
         t_max: None,
-        law: a.law,
+        law: a.law.as_deref().map(str::parse).transpose().map_err(anyhow::Error::msg)?,
         baseline: a.baseline,
         loading: a.loading,
         fit_stiffness: a.fit_stiffness.then_some(true),
         fit_slip_trend: a.fit_slip_trend.then_some(true),
         drop_invalid: a.drop_invalid.then_some(true),
         seed: a.seed,
-    }
+    })
 }
 
 /// A record's output files.
@@ -79,6 +79,13 @@ fn stamp(e: &Entry, o: &RecordOptions, job: Job) -> Result<String> {
         "options": o,
         "meta": e.meta,
         "job": job,
+        // the laws programs registered (law files): the diagnosis tries each, and a fit may
+        // name one, so an edited law file must run the record again
+        "registered_laws": rsf_laws::registry::all()
+            .iter()
+            .filter(|l| l.builtin().is_none())
+            .map(|l| serde_json::json!({ "name": l.name(), "source": l.source() }))
+            .collect::<Vec<_>>(),
     });
     Ok(serde_json::to_string_pretty(&what)? + "\n")
 }
@@ -161,7 +168,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
             bail!("`{other}` and `{}` would share their output files in {}: rename one", e.name, a.out.display());
         }
     }
-    let d = defaults(a);
+    let d = defaults(a)?;
     d.check().map_err(|(c, e)| anyhow::anyhow!("--{}: {e}", c.replace('_', "-")))?;
     let dir = a.out.join("records");
     let (summary, figure) = (a.out.join("summary.csv"), a.out.join("summary.svg"));

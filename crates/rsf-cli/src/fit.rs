@@ -37,18 +37,15 @@ pub(crate) fn progress_bar(template: &str) -> (indicatif::ProgressBar, rsf_fit::
 }
 
 pub fn options(a: &FitArgs) -> Result<FitOptions> {
-    let kinds: Vec<rsf_laws::Law> = match &a.laws {
-        Some(l) => l
-            .split(',')
-            .map(|s| s.trim().parse::<rsf_laws::Law>())
-            .collect::<Result<_, _>>()
-            .map_err(anyhow::Error::msg)?,
-        None => vec![a.law; a.states],
+    let kinds: Vec<rsf_laws::registry::LawName> = match &a.laws {
+        Some(l) => l.split(',').map(|s| s.trim().parse()).collect::<Result<_, _>>().map_err(anyhow::Error::msg)?,
+        None => vec![a.law.parse().map_err(anyhow::Error::msg)?; a.states],
     };
     if kinds.is_empty() || kinds.len() > 3 {
         bail!("1 to 3 state variables are supported by the fitter (got {})", kinds.len());
     }
-    let laws = kinds.iter().map(|l| l.with_starting_values()).collect::<Vec<_>>();
+    let laws =
+        kinds.iter().map(|l| l.with_starting_values()).collect::<Result<Vec<_>, _>>().map_err(anyhow::Error::msg)?;
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }

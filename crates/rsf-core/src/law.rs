@@ -188,6 +188,14 @@ pub trait StateLaw: Debug + Clone + Send + Sync + 'static {
         Ok(())
     }
 
+    /// ∂(dθ/dt)/∂q for the law's own parameter `q = name`, exact, when the law can give it
+    /// (a text-file law: dual numbers over its expression). `None` (the default): fits take
+    /// a central difference of [`set_parameter`](StateLaw::set_parameter)'s rate instead.
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64> {
+        let _ = (name, s);
+        None
+    }
+
     /// The factor `s` in the friction term `b ln(V0 θ / (s Dc))`. 1 unless the law defines
     /// θ differently (Perrin–Rice–Zheng: 2, so that its steady state θ = 2Dc/V gives the
     /// standard steady-state friction).
@@ -317,6 +325,8 @@ pub trait DynStateLaw: Debug + Send + Sync {
     /// [`with_parameter`](Self::with_parameter) then [`rate`](Self::rate) give, on a copy kept
     /// on the stack (the parameter derivatives of a sensitivity solve take it at every step).
     fn rate_with_parameter(&self, name: &str, value: f64, s: &StateArgs<f64>) -> Result<f64, String>;
+    /// See [`StateLaw::parameter_derivative`].
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64>;
     /// The law as `Any`, so a solver can recognise a concrete law and call it directly
     /// (see [`SameLaw`](crate::SameLaw)).
     fn as_any(&self) -> &dyn std::any::Any;
@@ -361,5 +371,8 @@ impl<L: StateLaw> DynStateLaw for L {
         let mut l = self.clone();
         l.set_parameter(name, value)?;
         Ok(l.theta_rate(s))
+    }
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64> {
+        StateLaw::parameter_derivative(self, name, s)
     }
 }

@@ -25,6 +25,11 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub mod expr;
+pub mod registry;
+pub mod text_law;
+
+pub use registry::{LawEntry, LawParameter, Start};
 use rsf_core::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 use std::sync::Arc;
 
@@ -342,39 +347,41 @@ impl Law {
         }
     }
 
-    /// The law's own parameters (`vc`, µm/s; `c` and `w`, dimensionless).
-    pub fn parameters(self) -> &'static [&'static str] {
+    /// The law's own parameters: name, unit, physical range, fitting scale and start.
+    pub fn specs(self) -> &'static [LawParameter] {
         match self {
             Law::Aging | Law::Slip | Law::Prz => &[],
-            Law::KatoTullis => &["vc"],
-            Law::Nagata => &["c"],
-            Law::AgingSlip => &["w"],
-        }
-    }
-
-    /// Where a fit starts each of the law's own parameters (Vc 0.01 µm/s; Nagata's c 1; the
-    /// aging share w ½).
-    pub fn starting_value(self, parameter: &str) -> Option<f64> {
-        match (self, parameter) {
-            (Law::KatoTullis, "vc") => Some(0.01),
-            (Law::Nagata, "c") => Some(1.0),
-            (Law::AgingSlip, "w") => Some(0.5),
-            (Law::KatoTullis | Law::Nagata | Law::AgingSlip | Law::Aging | Law::Slip | Law::Prz, _) => None,
-        }
-    }
-
-    /// How a fit treats one of the law's own parameters: its physical range and whether it is
-    /// fitted as a logarithm (`None` for a name the law does not have).
-    pub fn parameter_range(self, parameter: &str) -> Option<ParameterRange> {
-        match (self, parameter) {
-            // µm/s: from far below any lab slip rate to far above; spans decades, so ln Vc
-            (Law::KatoTullis, "vc") => Some(ParameterRange { lo: 1e-9, hi: 1e6, log: true }),
-            // dimensionless, of either sign in a fit's trial steps
-            (Law::Nagata, "c") => Some(ParameterRange { lo: -1e9, hi: 1e9, log: false }),
+            // µm/s: from far below any lab slip rate to far above; spans decades, so ln Vc;
+            // starts at the record's slowest load point, where a cut-off first shows
+            Law::KatoTullis => &[LawParameter {
+                name: "vc",
+                unit: "µm/s",
+                lo: 1e-9,
+                hi: 1e6,
+                log: true,
+                start: Start::SlowestLoadPointVelocity,
+            }],
+            // dimensionless; Nagata et al. (2012) report c ≈ 2; of either sign in a fit's
+            // trial steps (the law itself refuses c < 0)
+            Law::Nagata => {
+                &[LawParameter { name: "c", unit: "", lo: -1e9, hi: 1e9, log: false, start: Start::Value(1.0) }]
+            }
             // a share: 0 is the Slip law, 1 the Aging law
-            (Law::AgingSlip, "w") => Some(ParameterRange { lo: 0.0, hi: 1.0, log: false }),
-            (Law::KatoTullis | Law::Nagata | Law::AgingSlip | Law::Aging | Law::Slip | Law::Prz, _) => None,
+            Law::AgingSlip => {
+                &[LawParameter { name: "w", unit: "", lo: 0.0, hi: 1.0, log: false, start: Start::Value(0.5) }]
+            }
         }
+    }
+
+    /// The names of the law's own parameters (`vc`, µm/s; `c` and `w`, dimensionless).
+    pub fn parameters(self) -> Vec<&'static str> {
+        self.specs().iter().map(|p| p.name).collect()
+    }
+
+    /// Where a fit starts one of the law's own parameters without a record at hand (Vc
+    /// 0.01 µm/s; Nagata's c 1; the aging share w ½).
+    pub fn starting_value(self, parameter: &str) -> Option<f64> {
+        self.specs().iter().find(|p| p.name == parameter).map(|p| p.start_value(None))
     }
 
     /// The law's id in the C ABI (`RsfStateParams.law`).
@@ -416,21 +423,10 @@ impl Law {
     }
 }
 
-/// A law parameter's physical range and fitting scale ([`Law::parameter_range`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ParameterRange {
-    /// Lowest physical value.
-    pub lo: f64,
-    /// Highest physical value.
-    pub hi: f64,
-    /// Fitted as a logarithm (a positive quantity spanning decades).
-    pub log: bool,
-}
-
-/// A built-in law by name, with its own parameters looked up by `param` (e.g. `"vc"`).
-/// The error names the missing or unknown item.
-pub fn law_by_name(name: &str, param: impl Fn(&'static str) -> Option<f64>) -> Result<Arc<dyn DynStateLaw>, String> {
-    name.parse::<Law>()?.build(param)
+/// A registered law (built in or registered by a program) by name, with its own parameters
+/// looked up by `param` (e.g. `"vc"`). The error names the missing or unknown item.
+pub fn law_by_name(name: &str, param: impl Fn(&str) -> Option<f64>) -> Result<Arc<dyn DynStateLaw>, String> {
+    registry::find(name)?.build(param)
 }
 
 #[cfg(test)]

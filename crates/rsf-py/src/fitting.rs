@@ -72,7 +72,7 @@ pub(crate) fn fit_options(law: &str, stiffness: f64, loading: &str, fit_stiffnes
     if !(stiffness > 0.0 && stiffness.is_finite()) {
         return Err(value_error(format!("stiffness {stiffness} must be positive and finite (1/µm)")));
     }
-    let law = word::<rsf_laws::Law>(law)?.with_starting_values();
+    let law = word::<rsf_laws::registry::LawName>(law)?.with_starting_values().map_err(value_error)?;
     let mut o = FitOptions::new(vec![law], stiffness);
     o.loading = word::<LoadingMode>(loading)?;
     o.fit_stiffness = fit_stiffness;
@@ -158,7 +158,7 @@ pub fn fit_json(
         }
         opts.laws = names
             .iter()
-            .map(|n| word::<rsf_laws::Law>(n).map(rsf_laws::Law::with_starting_values))
+            .map(|n| word::<rsf_laws::registry::LawName>(n)?.with_starting_values().map_err(value_error))
             .collect::<PyResult<_>>()?;
     }
     opts.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;

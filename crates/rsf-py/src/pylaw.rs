@@ -1,5 +1,6 @@
-//! A state law written in Python: a callable `theta_rate(v, theta, dc, b, stress_rate)`
-//! returning dθ/dt (s/s), used by every solver like a built-in law.
+//! A state law written in Python: a callable `theta_rate(v, theta, dc, b, stress_rate,
+//! *params)` returning dθ/dt (s/s), used by every solver like a built-in law; registered
+//! (`rsf.register_law`), by every fit and diagnosis too, its own parameters fitted.
 //!
 //! The slow path, on purpose: each right-hand side takes the GIL and calls Python once per
 //! state variable (about 1 µs per call against ~20 ns for a Rust law), and implicit methods'
@@ -15,6 +16,8 @@ use std::sync::{Arc, Mutex};
 pub struct PyLaw {
     f: Arc<Py<PyAny>>,
     name: String,
+    /// The law's own parameters (passed after `stress_rate`, in this order).
+    params: Vec<(&'static str, f64)>,
     /// The first error raised by the callable (re-raised after the solve).
     pub error: Arc<Mutex<Option<PyErr>>>,
 }
@@ -28,14 +31,23 @@ impl std::fmt::Debug for PyLaw {
 impl PyLaw {
     /// Wraps `f`; `name` labels it in messages and output.
     pub fn new(f: Py<PyAny>, name: String) -> Self {
-        Self { f: Arc::new(f), name, error: Arc::new(Mutex::new(None)) }
+        Self { f: Arc::new(f), name, params: vec![], error: Arc::new(Mutex::new(None)) }
+    }
+
+    /// The same law with its own parameters (name, value), passed after `stress_rate`.
+    pub fn with_params(mut self, params: Vec<(&'static str, f64)>) -> Self {
+        self.params = params;
+        self
     }
 
     /// Calls the function at plain values; NaN (with the error kept) when it raises or
     /// returns something that is not a number.
     fn call(&self, v: f64, theta: f64, dc: f64, b: f64, stress_rate: f64) -> f64 {
         Python::attach(|py| {
-            let r = self.f.call1(py, (v, theta, dc, b, stress_rate)).and_then(|x| x.extract::<f64>(py));
+            let mut args = vec![v, theta, dc, b, stress_rate];
+            args.extend(self.params.iter().map(|p| p.1));
+            let args = pyo3::types::PyTuple::new(py, args);
+            let r = args.and_then(|a| self.f.call1(py, a)).and_then(|x| x.extract::<f64>(py));
             r.unwrap_or_else(|e| {
                 let mut slot = self.error.lock().unwrap_or_else(|p| p.into_inner());
                 if slot.is_none() {
@@ -57,6 +69,20 @@ impl StateLaw for PyLaw {
 
     fn name(&self) -> String {
         self.name.clone()
+    }
+
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        self.params.clone()
+    }
+
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), String> {
+        match self.params.iter_mut().find(|p| p.0 == name) {
+            Some(p) => {
+                p.1 = value;
+                Ok(())
+            }
+            None => Err(format!("law `{}` has no parameter `{name}`", self.name)),
+        }
     }
 
     fn jet(&self, s: &StateArgs<f64>) -> Jet {

@@ -67,7 +67,7 @@ pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;
 pub use solution::Solution;
 pub use solve::{
-    MAX_SLIP_RATE, MAX_STATES, OutputTimes, Problem, SolveError, drive, output_times, solve, solve_friction,
+    MAX_SLIP_RATE, MAX_STATES, OutputTimes, Problem, RunAway, SolveError, drive, output_times, solve, solve_friction,
 };
 pub use tsit5::Tsit5;
 pub use vern6::Vern6;

@@ -133,6 +133,9 @@ impl Wrap for InMemory {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields, bound = "")]
 struct RawFile<W: Wrap> {
+    /// Law files (TOML, [`rsf_laws::text_law`]) to register before the model is read; paths
+    /// relative to the protocol's folder.
+    law_files: Option<W::Of<Vec<String>>>,
     model: W::Of<RawModel<W>>,
     loading: W::Of<RawLoading<W>>,
     output: Option<W::Of<RawOutput<W>>>,
@@ -162,17 +165,16 @@ struct RawModel<W: Wrap> {
     state: Option<Vec<W::Of<RawState<W>>>>,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields, bound = "")]
-struct RawState<W: Wrap> {
-    law: W::Of<String>,
-    b: W::Of<f64>,
-    dc: W::Of<f64>,
-    vc: Option<W::Of<f64>>,
-    c: Option<W::Of<f64>>,
-    w: Option<W::Of<f64>>,
-    alpha: Option<W::Of<f64>>,
-}
+/// A `[[model.state]]` table: `law`, `b`, `dc`, optionally `alpha`, and the law's own
+/// parameters by the names its registry entry gives (`vc`, `c`, `n`, …). Read as a table
+/// because which keys are allowed depends on the law.
+type RawState<W> = std::collections::BTreeMap<String, <W as Wrap>::Of<toml::Value>>;
+
+/// A number of a state table and where it was written.
+type Located64 = (f64, Option<Range<usize>>);
+
+/// The fields of a state table that are not a law's parameters.
+const STATE_FIELDS: [&str; 4] = ["law", "b", "dc", "alpha"];
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields, bound = "")]
@@ -273,6 +275,17 @@ fn build<W: Wrap>(
         message,
     };
 
+    // ---- law files
+    if let Some(files) = &raw.law_files {
+        for f in files.get() {
+            let path = match base {
+                Some(b) => b.join(f),
+                None => PathBuf::from(f),
+            };
+            rsf_laws::text_law::register_file(&path).map_err(|m| err(files.span().as_ref(), "law_files", m))?;
+        }
+    }
+
     // ---- model
     let rm = raw.model.get();
     let mut spans: HashMap<String, Option<Range<usize>>> = HashMap::new();
@@ -311,45 +324,80 @@ fn build<W: Wrap>(
     }
     let mut state_spans = Vec::new();
     for (i, st) in states.iter().enumerate() {
-        let s = st.get();
+        let table = st.get();
         let field = format!("model.state[{}]", i + 1);
-        let law_name = s.law.get().as_str();
-        let kind: rsf_laws::Law =
-            law_name.parse().map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;
-        let wanted = kind.parameters();
-        for (pname, val) in [("vc", &s.vc), ("c", &s.c), ("w", &s.w)] {
-            if let Some(v) = val {
-                if !wanted.contains(&pname) {
+        let whole = st.span();
+        let number = |key: &str| -> Result<Option<Located64>, ProtocolError> {
+            let Some(v) = table.get(key) else { return Ok(None) };
+            match v.get() {
+                toml::Value::Float(x) => Ok(Some((*x, v.span()))),
+                toml::Value::Integer(x) => Ok(Some((*x as f64, v.span()))),
+                other => Err(err(
+                    v.span().as_ref(),
+                    &format!("{field}.{key}"),
+                    format!("expected a number, found {}", other.type_str()),
+                )),
+            }
+        };
+        let required = |key: &str| -> Result<Located64, ProtocolError> {
+            number(key)?.ok_or_else(|| err(whole.as_ref(), &field, format!("missing field `{key}`")))
+        };
+        let (law_name, law_span) = match table.get("law") {
+            Some(v) => match v.get() {
+                toml::Value::String(s) => (s.clone(), v.span()),
+                other => {
                     return Err(err(
                         v.span().as_ref(),
-                        &format!("{field}.{pname}"),
-                        format!("`{pname}` does not apply to law `{law_name}`"),
+                        &format!("{field}.law"),
+                        format!("expected a law name, found {}", other.type_str()),
                     ));
                 }
+            },
+            None => return Err(err(whole.as_ref(), &field, "missing field `law`".into())),
+        };
+        let entry =
+            rsf_laws::registry::find(&law_name).map_err(|m| err(law_span.as_ref(), &format!("{field}.law"), m))?;
+        for (key, v) in table {
+            if !STATE_FIELDS.contains(&key.as_str()) && entry.parameter(key).is_none() {
+                let own: Vec<&str> = entry.parameters().iter().map(|p| p.name).collect();
+                return Err(err(
+                    v.span().as_ref(),
+                    &format!("{field}.{key}"),
+                    format!(
+                        "`{key}` does not apply to law `{law_name}` (a state has law, b, dc, alpha{}{})",
+                        if own.is_empty() { "" } else { " and the law's own " },
+                        own.join(", ")
+                    ),
+                ));
             }
         }
-        let law = kind
-            .build(|p| match p {
-                "vc" => s.vc.as_ref().map(|v| *v.get()),
-                "c" => s.c.as_ref().map(|v| *v.get()),
-                "w" => s.w.as_ref().map(|v| *v.get()),
-                _ => None,
-            })
-            .map_err(|m| err(s.law.span().as_ref(), &format!("{field}.law"), m))?;
-        if kind == rsf_laws::Law::Nagata && *s.b.get() == 0.0 {
+        let mut own = Vec::new();
+        for p in entry.parameters() {
+            let value = number(p.name)?;
+            if let Some((x, span)) = &value {
+                p.check(*x).map_err(|m| err(span.as_ref(), &format!("{field}.{}", p.name), m))?;
+            }
+            own.push((p.name, value.map(|x| x.0)));
+        }
+        let law = entry
+            .build(|p| own.iter().find(|o| o.0 == p).and_then(|o| o.1))
+            .map_err(|m| err(law_span.as_ref(), &format!("{field}.law"), m))?;
+        let (b, b_span) = required("b")?;
+        let (dc, dc_span) = required("dc")?;
+        if entry.builtin() == Some(rsf_laws::Law::Nagata) && b == 0.0 {
             return Err(err(
-                s.b.span().as_ref(),
+                b_span.as_ref(),
                 &format!("{field}.b"),
                 "Nagata's law divides by b; b must not be 0".into(),
             ));
         }
-        spans.insert(format!("state[{}].b", i + 1), s.b.span());
-        spans.insert(format!("state[{}].dc", i + 1), s.dc.span());
-        state_spans.push(st.span());
-        let mut sv = StateVariable::from_shared(law, *s.b.get(), *s.dc.get());
-        if let Some(alpha) = &s.alpha {
-            spans.insert(format!("state[{}].alpha", i + 1), alpha.span());
-            sv.alpha = *alpha.get();
+        spans.insert(format!("state[{}].b", i + 1), b_span);
+        spans.insert(format!("state[{}].dc", i + 1), dc_span);
+        state_spans.push(whole);
+        let mut sv = StateVariable::from_shared(law, b, dc);
+        if let Some((alpha, alpha_span)) = number("alpha")? {
+            spans.insert(format!("state[{}].alpha", i + 1), alpha_span);
+            sv.alpha = alpha;
         }
         model.states.push(sv);
     }

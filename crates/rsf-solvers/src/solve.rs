@@ -150,6 +150,61 @@ pub fn initial_state(problem: &Problem) -> Result<Vec<f64>, SolveError> {
     Ok(y)
 }
 
+/// Where a quasi-static run diverged: the piece of the loading, what the protocol did at its
+/// start, and the states the solver last accepted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunAway {
+    /// 1-based piece (segment or record interval) in which it diverged.
+    pub piece: usize,
+    /// Start of that piece, s.
+    pub t0: f64,
+    /// Load-point velocity in that piece and in the one before it (`None` for the first),
+    /// µm/s.
+    pub v_lp: (Option<f64>, f64),
+    /// Normal stress at the end of the piece before and at the start of this one, MPa.
+    pub sigma: (Option<f64>, f64),
+    /// Each state's law and θ (s) at the last accepted step.
+    pub states: Vec<(String, f64)>,
+}
+
+impl RunAway {
+    /// What the protocol did at the start of the piece, in words; a cause is guessed only from
+    /// that.
+    fn trigger(&self) -> String {
+        let (v_before, v) = self.v_lp;
+        let (s_before, s) = self.sigma;
+        let mut what = vec![];
+        if let Some(sb) = s_before.filter(|sb| s < *sb) {
+            what.push(format!("the normal stress dropped from {sb} to {s} MPa at t = {} s", self.t0));
+        }
+        match v_before {
+            Some(0.0) if v > 0.0 => what.push(format!("the load point restarted at {v} µm/s after a hold")),
+            Some(vb) if v > vb => what.push(format!("the load point stepped up from {vb} to {v} µm/s")),
+            _ => {}
+        }
+        if what.is_empty() {
+            format!("nothing changed in the protocol at the start of piece {} (t = {} s)", self.piece, self.t0)
+        } else {
+            format!("at the start of piece {}, {}", self.piece, what.join(" and "))
+        }
+    }
+}
+
+impl std::fmt::Display for RunAway {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let states: Vec<String> =
+            self.states.iter().enumerate().map(|(i, (law, th))| format!("θ{} = {th:.3e} s ({law})", i + 1)).collect();
+        write!(
+            f,
+            "in piece {} (V_lp = {} µm/s; last accepted {}); {}",
+            self.piece,
+            self.v_lp.1,
+            states.join(", "),
+            self.trigger()
+        )
+    }
+}
+
 /// Why a quasi-static run diverges, in words.
 fn blow_up_reason(k: f64, kc: f64) -> String {
     if k < kc {
@@ -159,9 +214,10 @@ fn blow_up_reason(k: f64, kc: f64) -> String {
         )
     } else {
         format!(
-            "friction rose past what sliding can carry (stiffness {k} is above the critical ≈ {kc:.3e} 1/µm, so a \
-             sudden change did it, e.g. a normal-stress drop at a fixed load point); a quasi-static model cannot \
-             follow it: make the change a ramp, or add radiation damping (eta)"
+            "friction rose past what sliding can carry although the stiffness {k} is above the critical ≈ {kc:.3e} \
+             1/µm (a linear estimate: a law whose state collapses faster than the Aging law's can run away above \
+             it); a quasi-static model cannot follow it: add radiation damping (eta), or soften what the protocol \
+             does there"
         )
     }
 }
@@ -179,7 +235,7 @@ pub enum SolveError {
     #[error("{0}")]
     Input(String),
     /// The slip rate diverged: a quasi-static instability.
-    #[error("slip rate blew up at t = {t:.6} s (V = {v:.3e} µm/s, mu = {mu:.6}): {}", blow_up_reason(*k, *kc))]
+    #[error("slip rate blew up at t = {t:.6} s (V = {v:.3e} µm/s, mu = {mu:.6}) {at}: {}", blow_up_reason(*k, *kc))]
     BlowUp {
         /// Time, s.
         t: f64,
@@ -191,6 +247,8 @@ pub enum SolveError {
         k: f64,
         /// Critical stiffness estimate, 1/µm.
         kc: f64,
+        /// Where, and what the protocol did there.
+        at: Box<RunAway>,
     },
     /// The integrator failed.
     #[error("integration failed in piece {piece} (V_lp = {v_lp} µm/s, V = {v:.3e} µm/s): {source}")]
@@ -506,12 +564,26 @@ pub fn drive<'m, const D: usize, I: Integrator, S: OdeSystem<D>>(
                         && last.map(|yy| yy[0] > y[0] + 2.0).unwrap_or(true));
                 if blew_up && !model.imposed_velocity() {
                     let yy = last.unwrap_or(y);
+                    let before = pi.checked_sub(1).map(|i| &pieces[i]);
+                    let at = RunAway {
+                        piece: pi + 1,
+                        t0: piece.t0,
+                        v_lp: (before.map(|b| b.v), piece.v),
+                        sigma: (before.map(|b| b.sigma_end()), piece.sigma0),
+                        states: model
+                            .states
+                            .iter()
+                            .enumerate()
+                            .map(|(i, st)| (st.law.name(), yy[1 + i].exp()))
+                            .collect(),
+                    };
                     return Err(SolveError::BlowUp {
                         t: t_fail,
                         v: yy[0].exp().max(if stopped { max_slip_rate } else { 0.0 }),
                         mu: sys.stress(yy.as_slice()),
                         k: model.stiffness,
                         kc: model.critical_stiffness_estimate(),
+                        at: Box::new(at),
                     });
                 }
                 return Err(SolveError::Integration { piece: pi + 1, v_lp: piece.v, v: v_start, source: e });

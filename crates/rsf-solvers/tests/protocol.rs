@@ -66,7 +66,9 @@ fn errors_name_field_and_line() {
     bad("duration = 500.0", "duration = -1.0", &["p.toml:15", "duration"]);
     bad("b = 0.016", "b = 0.016\nvc = 1e-3", &["p.toml:10", "model.state[1].vc", "does not apply"]);
     bad("law = \"slip\"", "law = \"kato-tullis\"", &["p.toml:8", "needs parameter `vc`"]);
-    bad("law = \"slip\"", "law = \"kato-tullis\"\nvc = -1.0", &["p.toml:7", "model.state[1]", "vc"]);
+    bad("law = \"slip\"", "law = \"kato-tullis\"\nvc = -1.0", &["p.toml:9", "model.state[1].vc", "outside its range"]);
+    // a law's own parameter that the built-in list never had: the registry names the law's
+    bad("b = 0.016", "b = 0.016\nn = 1.5", &["p.toml:10", "model.state[1].n", "does not apply to law `slip`"]);
     bad(
         "law = \"slip\"\nb = 0.016",
         "law = \"nagata\"\nc = 2.0\nb = 0.0",
@@ -174,4 +176,54 @@ fn tables_in_memory_are_checked_by_the_same_rules() {
             assert!(e.to_string().contains(field), "{e}");
         }
     }
+}
+
+/// A protocol that registers a law file uses the law like a built-in one: at n = 1 power-law
+/// aging is the Aging law, so the two protocols give the same friction.
+#[test]
+fn a_law_file_in_a_protocol_is_used_like_a_built_in_law() {
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let text = std::fs::read_to_string(examples.join("power_aging_steps.toml")).unwrap();
+    let power = parse(&text.replace("n = 1.5", "n = 1.0"), Some(&examples), "power.toml").unwrap();
+    let aging = parse(
+        &text
+            .replace("law = \"power-aging\"\nn = 1.5", "law = \"aging\"")
+            .replace("law_files = [\"laws/power_aging.toml\"]", ""),
+        Some(&examples),
+        "aging.toml",
+    )
+    .unwrap();
+    let (p, a) = (power.method.solve(&power.problem).unwrap(), aging.method.solve(&aging.problem).unwrap());
+    assert_eq!(p.len(), a.len());
+    let worst = p.mu.iter().zip(&a.mu).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-8, "power-aging at n = 1 differs from aging by {worst:e}");
+    // and n = 1.5 heals differently over the hold
+    let p15 = parse(&text, Some(&examples), "power.toml").unwrap();
+    let s15 = p15.method.solve(&p15.problem).unwrap();
+    let d = s15.mu.iter().zip(&a.mu).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(d > 1e-4, "n = 1.5 should differ from Aging (max difference {d:e})");
+    // a missing file names itself
+    let e = parse(&text.replace("laws/power_aging.toml", "laws/none.toml"), Some(&examples), "p.toml").unwrap_err();
+    assert!(e.to_string().contains("none.toml") && e.to_string().contains("law_files"), "{e}");
+}
+
+/// A law that runs away on a reslide is reported with what the solver saw (the piece, the
+/// load-point change, the last accepted θ and its law), and no normal-stress change is guessed
+/// where σ never changed.
+#[test]
+fn a_run_away_names_the_piece_the_states_and_what_the_protocol_did() {
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let text = std::fs::read_to_string(examples.join("power_aging_steps.toml"))
+        .unwrap()
+        .replace("stiffness = 0.02 ", "stiffness = 0.005")
+        .replace("duration = 100.0", "duration = 1000.0");
+    let p = parse(&text, Some(&examples), "p.toml").unwrap();
+    let e = p.method.solve(&p.problem).unwrap_err();
+    let rsf_solvers::SolveError::BlowUp { at, .. } = &e else { panic!("expected a run-away, got {e}") };
+    assert_eq!(at.piece, 5, "{e}");
+    let msg = e.to_string();
+    for needle in ["in piece 5", "restarted at 1 µm/s after a hold", "θ1 = ", "(power-aging)"] {
+        assert!(msg.contains(needle), "`{msg}` lacks `{needle}`");
+    }
+    assert!(!msg.contains("normal stress") && !msg.contains("normal-stress"), "{msg}");
 }

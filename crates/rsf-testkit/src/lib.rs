@@ -14,6 +14,8 @@
 //! | `vi_t_identity` | holds and steps of an N-state model (the law mixed with Aging and Slip, N = 1–3) from V_i and V_i·10^u trace the same Δμ against V_i·t (Bhattacharya et al. 2022, Eqs. 9–11); for laws without a velocity scale |
 //! | `time_shift` | a model driven by a load-point record gives the same friction when the record's clock starts at 10⁶ s |
 //! | `integrators_agree` | the explicit (Dopri5) and implicit (Rodas4, which uses the Jacobian) integrators agree |
+//! | `parameter_round_trip` | each parameter `parameters()` lists can be set by `set_parameter` (a fit sets it by name) and reads back |
+//! | `parameter_derivative` | an exact ∂(dθ/dt)/∂q ([`StateLaw::parameter_derivative`]) equals central differences |
 //!
 //! ```
 //! use rsf_core::{Real, StateArgs, StateLaw};
@@ -172,11 +174,15 @@ pub enum Property {
     TimeShift,
     /// Explicit and implicit integrators agree.
     IntegratorsAgree,
+    /// Each listed parameter can be set and reads back.
+    ParameterRoundTrip,
+    /// An exact parameter derivative equals central differences.
+    ParameterDerivative,
 }
 
 impl Property {
     /// Every property, in the order checked.
-    pub const ALL: [Property; 9] = [
+    pub const ALL: [Property; 11] = [
         Property::Finite,
         Property::LogForm,
         Property::Jacobian,
@@ -186,6 +192,8 @@ impl Property {
         Property::ViTIdentity,
         Property::TimeShift,
         Property::IntegratorsAgree,
+        Property::ParameterRoundTrip,
+        Property::ParameterDerivative,
     ];
 
     /// The property's name.
@@ -200,6 +208,8 @@ impl Property {
             Property::ViTIdentity => "vi_t_identity",
             Property::TimeShift => "time_shift",
             Property::IntegratorsAgree => "integrators_agree",
+            Property::ParameterRoundTrip => "parameter_round_trip",
+            Property::ParameterDerivative => "parameter_derivative",
         }
     }
 }
@@ -274,7 +284,9 @@ pub fn check<L: StateLaw>(law: &L, claims: &Claims) -> Result<Report, Failure> {
             | Property::Jacobian
             | Property::SteadyState
             | Property::TimeScaling
-            | Property::UnitScaling => pointwise::run(p, law, claims),
+            | Property::UnitScaling
+            | Property::ParameterRoundTrip
+            | Property::ParameterDerivative => pointwise::run(p, law, claims),
             Property::ViTIdentity | Property::TimeShift | Property::IntegratorsAgree => solver::run(p, law, claims),
         };
         match outcome {

@@ -125,6 +125,17 @@ pub(crate) fn run<L: StateLaw>(p: Property, law: &L, claims: &Claims) -> Result<
         Property::SteadyState => run_cases(n, &pts, |pt| steady_state(law, claims, &pt)),
         Property::TimeScaling => run_cases(n, &pts, |pt| time_scaling(law, claims, &pt)),
         Property::UnitScaling => run_cases(n, &pts, |pt| unit_scaling(law, claims, &pt)),
+        Property::ParameterRoundTrip => parameter_round_trip(law),
+        Property::ParameterDerivative => {
+            let exact = law.parameters().iter().any(|(q, _)| law.parameter_derivative(q, &pts_any(claims)).is_some());
+            if law.parameters().is_empty() {
+                Ok(Outcome::Skipped("the law has no parameter of its own"))
+            } else if !exact {
+                Ok(Outcome::Skipped("no exact parameter derivative: fits take central differences"))
+            } else {
+                run_cases(n, &pts, |pt| parameter_derivative(law, &pt))
+            }
+        }
         Property::ViTIdentity | Property::TimeShift | Property::IntegratorsAgree => {
             unreachable!("solver-level properties are run by solver.rs")
         }
@@ -273,4 +284,65 @@ fn unit_scaling<L: StateLaw>(law: &L, claims: &Claims, pt: &Point) -> Result<(),
         &other,
         &t,
     )
+}
+
+/// A point inside the ranges (their geometric middle), for asking what a law offers.
+fn pts_any(claims: &Claims) -> StateArgs<f64> {
+    let mid = |(lo, hi): (f64, f64)| if lo > 0.0 { (lo * hi).sqrt() } else { 0.5 * (lo + hi) };
+    let r = &claims.ranges;
+    let (v, omega, dc) = (mid(r.v), mid(r.omega), mid(r.dc));
+    StateArgs {
+        v,
+        theta: omega * dc / v,
+        dc,
+        b: mid(r.b),
+        stress_rate: 0.0,
+        normal_stress: mid(r.normal_stress),
+        normal_stress_rate: 0.0,
+    }
+}
+
+/// Every parameter `parameters()` lists can be set by `set_parameter` and reads back, the
+/// others unchanged (a fit sets them by name; a law that lists one it cannot set fails there).
+fn parameter_round_trip<L: StateLaw>(law: &L) -> Result<Outcome, (String, String)> {
+    let own = law.parameters();
+    if own.is_empty() {
+        return Ok(Outcome::Skipped("the law has no parameter of its own"));
+    }
+    for (i, &(name, value)) in own.iter().enumerate() {
+        let new = if value != 0.0 { value * 1.25 } else { 0.5 };
+        let mut l = law.clone();
+        l.set_parameter(name, new).map_err(|e| {
+            (format!("parameters() lists `{name}` but set_parameter(\"{name}\", {new}) fails: {e}"), format!("{own:?}"))
+        })?;
+        let back = l.parameters();
+        let expect: Vec<(&str, f64)> =
+            own.iter().enumerate().map(|(j, &(n, v))| (n, if j == i { new } else { v })).collect();
+        if back != expect {
+            return Err((
+                format!("after set_parameter(\"{name}\", {new}) parameters() gives {back:?}, expected {expect:?}"),
+                format!("{own:?}"),
+            ));
+        }
+    }
+    Ok(Outcome::Passed(own.len() as u32))
+}
+
+/// An exact parameter derivative equals a central difference of the rate in that parameter.
+fn parameter_derivative<L: StateLaw>(law: &L, pt: &Point) -> Result<(), String> {
+    let s = pt.args();
+    for (name, q) in law.parameters() {
+        let Some(exact) = law.parameter_derivative(name, &s) else { continue };
+        let h = FD_STEP * q.abs().max(1e-3);
+        let rate = |x: f64| {
+            let mut l = law.clone();
+            l.set_parameter(name, x).map(|()| l.theta_rate(&s))
+        };
+        let fd = (rate(q + h)? - rate(q - h)?) / (2.0 * h);
+        let scale = exact.abs().max(fd.abs()).max(rate(q)?.abs()).max(1e-300);
+        if !((exact - fd).abs() <= FD_TOL * scale) {
+            return Err(format!("∂(dθ/dt)/∂{name}: exact {exact:e}, central difference {fd:e}"));
+        }
+    }
+    Ok(())
 }

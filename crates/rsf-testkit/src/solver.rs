@@ -127,7 +127,9 @@ pub(crate) fn run<L: StateLaw>(p: Property, law: &L, claims: &Claims) -> Result<
         | Property::Jacobian
         | Property::SteadyState
         | Property::TimeScaling
-        | Property::UnitScaling => unreachable!("pointwise properties are run by pointwise.rs"),
+        | Property::UnitScaling
+        | Property::ParameterRoundTrip
+        | Property::ParameterDerivative => unreachable!("pointwise properties are run by pointwise.rs"),
     }
 }
 

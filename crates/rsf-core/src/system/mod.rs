@@ -334,11 +334,18 @@ impl<'a> SpringSlider<'a> {
                 dpsi_dk += st.b * dz_dk;
                 fp[at(0, off)] = -(zdot + st.b * dz_db) / den;
                 fp[at(0, off + 1)] = -st.b * dz_ddc / den;
-                // the law's own parameter: a central difference of its rate (relative step 1e-6)
+                // the law's own parameter: exact where the law gives it, else a central
+                // difference of its rate (relative step 1e-6)
                 if let Some((name, q)) = p.law_parameters[i] {
-                    let h = 1e-6 * q.abs().max(1e-12);
-                    let rate = |qq: f64| st.law.rate_with_parameter(name, qq, &args);
-                    let dz_dq = (rate(q + h)? - rate(q - h)?) / (2.0 * h) / theta;
+                    let dg_dq = match st.law.parameter_derivative(name, &args) {
+                        Some(d) => d,
+                        None => {
+                            let h = 1e-6 * q.abs().max(1e-12);
+                            let rate = |qq: f64| st.law.rate_with_parameter(name, qq, &args);
+                            (rate(q + h)? - rate(q - h)?) / (2.0 * h)
+                        }
+                    };
+                    let dz_dq = dg_dq / theta;
                     fp[at(1 + i, off + 2)] = dz_dq;
                     fp[at(0, off + 2)] = -st.b * dz_dq / den;
                 }

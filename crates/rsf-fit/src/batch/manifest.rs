@@ -4,7 +4,7 @@
 use crate::data::{DispUnit, TimeUnit};
 use crate::diagnose::Baseline;
 use crate::fit::LoadingMode;
-use rsf_laws::Law;
+use rsf_laws::registry::LawName;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -35,7 +35,7 @@ pub struct RecordOptions {
     /// Use only rows with time ≤ this, s.
     pub t_max: Option<f64>,
     /// Evolution law of the fit (`rsf fit --law`).
-    pub law: Option<Law>,
+    pub law: Option<LawName>,
     /// Baseline law of the diagnosis: `slip` or `aging`.
     pub baseline: Option<Baseline>,
     /// Forward-model loading: `record` or `protocol` (default: `record` for a fit, `protocol`
@@ -300,7 +300,7 @@ mod tests {
         let e = read_manifest(&p).unwrap();
         assert_eq!(e.len(), 2);
         assert_eq!(e[0].options.stiffness, Some(0.01));
-        assert_eq!(e[0].options.law, Some(Law::Aging));
+        assert_eq!(e[0].options.law, Some(LawName::from(rsf_laws::Law::Aging)));
         assert_eq!(e[0].options.fit_stiffness, Some(true));
         assert_eq!(e[0].meta, vec![("meta_sample".to_string(), "S1".to_string())]);
         assert_eq!(e[1].options, RecordOptions::default());
@@ -334,8 +334,8 @@ mod tests {
     #[test]
     fn defaults_fill_unset_options() {
         let a = RecordOptions { stiffness: Some(1.0), ..Default::default() };
-        let d = RecordOptions { stiffness: Some(2.0), law: Some(Law::Slip), ..Default::default() };
+        let d = RecordOptions { stiffness: Some(2.0), law: Some(rsf_laws::Law::Slip.into()), ..Default::default() };
         let m = a.or(&d);
-        assert_eq!((m.stiffness, m.law), (Some(1.0), Some(Law::Slip)));
+        assert_eq!((m.stiffness, m.law), (Some(1.0), Some(rsf_laws::Law::Slip.into())));
     }
 }

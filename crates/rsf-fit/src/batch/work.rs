@@ -87,7 +87,7 @@ fn stiffness(o: &RecordOptions) -> Result<f64, String> {
 }
 
 fn fit_options(o: &RecordOptions) -> Result<FitOptions, String> {
-    let l = o.law.unwrap_or(rsf_laws::Law::Slip).with_starting_values();
+    let l = o.law.clone().unwrap_or_else(|| rsf_laws::Law::Slip.into()).with_starting_values()?;
     let mut fo = FitOptions::new(vec![l], stiffness(o)?);
     fo.loading = o.loading.unwrap_or(LoadingMode::Record);
     fo.fit_stiffness = o.fit_stiffness == Some(true);

@@ -465,8 +465,10 @@ pub fn cause_variants(cause: Cause, o: &FitOptions, base_law: &str) -> Vec<(Stri
         tries.push((format!("a mixture: {base_law} and {other} states sharing Dc"), om));
         // the law library: each law for every state of the baseline (one, in a diagnosis)
         for law in library_laws() {
-            let start = library_start(law, base_law);
-            let Ok(l) = law.build(|p| start.iter().find(|s| s.0 == p).map(|s| s.1).or(law.starting_value(p))) else {
+            let start = library_start(law.builtin(), base_law);
+            let Ok(l) = law.build(|p| {
+                start.iter().find(|s| s.0 == p).map(|s| s.1).or(law.parameter(p).map(|q| q.start_value(None)))
+            }) else {
                 continue;
             };
             let mut ol = o.clone();
@@ -484,11 +486,11 @@ pub fn cause_variants(cause: Cause, o: &FitOptions, base_law: &str) -> Vec<(Stri
 /// Aging–Slip mixture next to the baseline's own law (w = 0.1 from Slip, 0.9 from Aging; at
 /// w = 0 or 1 exactly, every step that leaves the bound would be rejected), the others at
 /// their registry starts.
-fn library_start(law: Law, base_law: &str) -> Vec<(&'static str, f64)> {
-    match law {
-        Law::AgingSlip if base_law == Law::Aging.name() => vec![("w", 1.0 - MIXTURE_START_OFF_BOUND)],
-        Law::AgingSlip => vec![("w", MIXTURE_START_OFF_BOUND)],
-        Law::Aging | Law::Slip | Law::KatoTullis | Law::Prz | Law::Nagata => vec![],
+fn library_start(builtin: Option<Law>, base_law: &str) -> Vec<(&'static str, f64)> {
+    match builtin {
+        Some(Law::AgingSlip) if base_law == Law::Aging.name() => vec![("w", 1.0 - MIXTURE_START_OFF_BOUND)],
+        Some(Law::AgingSlip) => vec![("w", MIXTURE_START_OFF_BOUND)],
+        Some(Law::Aging | Law::Slip | Law::KatoTullis | Law::Prz | Law::Nagata) | None => vec![],
     }
 }
 

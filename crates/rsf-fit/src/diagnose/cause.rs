@@ -128,6 +128,18 @@ impl Cause {
                 // a library law's own parameter (Nagata's c, the one-state mixture's aging share)
                 effect.c = pr.law_params.get("c1").copied();
                 effect.w = pr.law_params.get("w1").copied();
+                // a registered law's own parameters (power-law aging's n), by their names
+                if let [law] = pr.laws.as_slice() {
+                    if let Ok(entry) = rsf_laws::registry::find(law) {
+                        if entry.builtin().is_none() {
+                            for p in entry.parameters() {
+                                if let Some(x) = pr.law_params.get(&format!("{}1", p.name)) {
+                                    effect.law_parameters.insert(p.name.to_string(), *x);
+                                }
+                            }
+                        }
+                    }
+                }
             }
             Self::SecondStateVariable => {
                 // the states are exchangeable in the fit: report the slower one as the second
@@ -182,6 +194,10 @@ pub struct Effect {
     /// fit, and the slower one is reported as the second.
     #[serde(skip)]
     pub second_state: Option<usize>,
+    /// The own parameters of a registered (not built-in) law named as the evolution law, by
+    /// name (power-law aging's `n`).
+    #[serde(flatten)]
+    pub law_parameters: std::collections::BTreeMap<String, f64>,
 }
 
 /// One set parameter of an [`Effect`]: its key (as serialised), its value, and the fitted
@@ -222,7 +238,7 @@ impl Effect {
 
     /// The set parameters, in key order (as serialised).
     pub fn entries(&self) -> Vec<EffectEntry> {
-        let Effect { alpha, b2, b_other_fraction, c, dc2, g, k, law, vc, w, second_state } = self;
+        let Effect { alpha, b2, b_other_fraction, c, dc2, g, k, law, vc, w, second_state, law_parameters } = self;
         let num = |key: &'static str, x: &Option<f64>, parameter: Option<ParamName>| {
             x.map(|x| EffectEntry { key, value: EffectValue::Number(x), parameter })
         };
@@ -241,6 +257,11 @@ impl Effect {
         ]
         .into_iter()
         .flatten()
+        .chain(law_parameters.iter().map(|(name, x)| EffectEntry {
+            key: rsf_laws::registry::intern(name),
+            value: EffectValue::Number(*x),
+            parameter: Some(ParamName::Law(name.clone(), 1)),
+        }))
         .collect()
     }
 }
@@ -296,17 +317,18 @@ pub(super) fn builtin(law: Law) -> Arc<dyn rsf_core::DynStateLaw> {
     law.with_starting_values()
 }
 
-/// The laws of the library tried as the evolution law besides the other classic law: every
+/// The laws of the registry tried as the evolution law besides the other classic law: every
 /// built-in law but the two classic ones (the baseline and the other law, tried first) and the
-/// Kato–Tullis law (its own cause, `cutoff_velocity`, with its Vc profile). Exhaustive: a new
-/// built-in law fails to compile here until the diagnosis decides whether it is a candidate.
-pub(super) fn library_laws() -> Vec<Law> {
-    Law::ALL
-        .iter()
-        .copied()
-        .filter(|l| match l {
-            Law::Aging | Law::Slip | Law::KatoTullis => false,
-            Law::Prz | Law::Nagata | Law::AgingSlip => true,
+/// Kato–Tullis law (its own cause, `cutoff_velocity`, with its Vc profile), then every law a
+/// program registered (a Rust type, a text file, a Python function) in the order registered.
+/// Exhaustive over the built-in laws: a new one fails to compile here until the diagnosis
+/// decides whether it is a candidate.
+pub(super) fn library_laws() -> Vec<rsf_laws::LawEntry> {
+    rsf_laws::registry::all()
+        .into_iter()
+        .filter(|e| match e.builtin() {
+            Some(Law::Aging | Law::Slip | Law::KatoTullis) => false,
+            Some(Law::Prz | Law::Nagata | Law::AgingSlip) | None => true,
         })
         .collect()
 }

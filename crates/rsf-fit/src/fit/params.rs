@@ -109,8 +109,9 @@ pub struct ParamSpec {
 }
 
 impl ParamName {
-    /// Scale and range of this parameter; a law's own parameter from the law registry
-    /// ([`rsf_laws::Law::parameter_range`]), a user's law's as linear and unbounded.
+    /// Scale and range of this parameter; a law's own parameter from its spec in the law
+    /// registry ([`rsf_laws::registry`]); a law used without registering it has no spec, and
+    /// its parameters are fitted linearly in ±1e9.
     pub fn spec(&self, laws: &[std::sync::Arc<dyn rsf_core::DynStateLaw>]) -> ParamSpec {
         let (log, lo, hi) = match self {
             Self::Mu0 => (false, -10.0, 10.0),
@@ -124,17 +125,19 @@ impl ParamName {
             // Linker–Dieterich α: published values 0–0.6; beyond 5 the coupling would dominate
             // every other term
             Self::Alpha(_) => (false, 0.0, 5.0),
-            Self::Law(name, i) => {
-                let builtin = laws.get(i - 1).and_then(|l| l.name().parse::<rsf_laws::Law>().ok());
-                match builtin.and_then(|l| l.parameter_range(name)) {
-                    Some(r) => (r.log, r.lo, r.hi),
-                    None => (false, -1e9, 1e9),
-                }
-            }
+            Self::Law(name, i) => match laws.get(i - 1).and_then(|l| law_spec(l.as_ref(), name)) {
+                Some(r) => (r.log, r.lo, r.hi),
+                None => (false, -1e9, 1e9),
+            },
             Self::Mu0Seg(_) => (false, f64::NEG_INFINITY, f64::INFINITY),
         };
         ParamSpec { log, lo, hi }
     }
+}
+
+/// The registry's spec of parameter `name` of `law`, when the law is registered.
+pub(crate) fn law_spec(law: &dyn rsf_core::DynStateLaw, name: &str) -> Option<rsf_laws::LawParameter> {
+    rsf_laws::registry::find(&law.name()).ok().and_then(|e| e.parameter(name).copied())
 }
 
 /// A linear constraint as written: `X=c`, `X-Y=c` or `X+Y=c`, parsed once where it is given
@@ -322,9 +325,13 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         // split b between states; later states slower (Dc × 10 per state)
         base[off] = b * if n == 1 { 1.0 } else { 0.6 * 0.4f64.powi(i as i32) / 0.6f64.max(1e-9) * 0.6 };
         base[off + 1] = dc * 10f64.powi(i as i32);
+        // where the law was built (`with_starting_values`: the spec's start), except a
+        // velocity scale whose spec starts it at the record's slowest load point
         base[off + 2] = match law.parameters().first() {
-            Some(("vc", _)) => vmin,
-            Some((_, v)) => *v,
+            Some((name, v)) => match law_spec(law.as_ref(), name).map(|p| p.start) {
+                Some(rsf_laws::Start::SlowestLoadPointVelocity) if vmin.is_finite() => vmin,
+                Some(rsf_laws::Start::SlowestLoadPointVelocity | rsf_laws::Start::Value(_)) | None => *v,
+            },
             None => 0.0,
         };
         // α starts inside its domain when fitted: at its bound α = 0 every LM step that

@@ -39,22 +39,73 @@ from .batch import diagnose_many, fit_many  # noqa: E402  (many records; Dask)
 __all__ = [
     "State", "Model", "Protocol", "Setup", "load_protocol", "simulate", "read_record", "fit",
     "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS", "fit_many",
-    "diagnose_many", "design", "Design",
+    "diagnose_many", "design", "Design", "load_law", "register_law", "laws",
 ]
 
 #: Built-in state laws by name.
 LAWS = tuple(_rsf.LAW_NAMES)  # the built-in laws, from Rust's registry
 
-ThetaRate = Callable[[float, float, float, float, float], float]
+ThetaRate = Callable[..., float]
+
+
+def load_law(path: Union[str, os.PathLike]) -> str:
+    """Registers the law of a law file (TOML: its rate as an expression of ``v``, ``theta``,
+    ``dc``, ``b``, ``tau_rate``, ``sigma``, ``sigma_rate``, ``omega`` and its own parameters;
+    docs/laws.md) and returns its name, usable at once by :func:`simulate` (``State(law=name,
+    params={...})``), :func:`fit` (its parameters fitted), :func:`diagnose` (a candidate law) and
+    :func:`design`. Loading an edited file again replaces the law."""
+    return _rsf.register_law_file(os.fspath(path))
+
+
+def register_law(name: str, theta_rate: ThetaRate, parameters: Optional[Mapping[str, Mapping[str, Any]]] = None,
+                 words: Optional[str] = None) -> str:
+    """Registers a Python function ``theta_rate(v, theta, dc, b, stress_rate, *params) -> dθ/dt``
+    as law ``name`` (lower case, digits and ``-``). ``parameters`` maps each own parameter, in
+    the order the function takes them, to ``{"range": (lo, hi), "start": x}`` and optionally
+    ``"unit"`` and ``"log"``. The law is then used by name everywhere, like a law file's.
+
+    The slow path: about 1 µs per call and derivatives by central differences (a law file is
+    evaluated in Rust with exact derivatives; docs/BENCHMARKS.md has both costs)."""
+    specs = []
+    for pname, spec in (parameters or {}).items():
+        lo, hi = spec["range"]
+        specs.append((pname, spec.get("unit", ""), float(lo), float(hi), bool(spec.get("log", False)),
+                      float(spec["start"])))
+    name = _rsf.register_py_law(name, theta_rate, words or name, specs)
+    _FUNCTION_LAWS[theta_rate] = name
+    return name
+
+
+def laws() -> list:
+    """The names of every registered law: the built-in ones (:data:`LAWS`), then those loaded
+    by :func:`load_law` or :func:`register_law`."""
+    return list(_rsf.law_names())
+
+
+_FUNCTION_LAWS: dict = {}  # function → the name it was registered under
+
+
+def _law_name(law: Union[str, ThetaRate]) -> str:
+    """A law given by name, or a Python function: the name it was registered under, or else
+    registered (without parameters of its own) under its ``__name__``."""
+    if isinstance(law, str):
+        return law
+    if callable(law):
+        if law in _FUNCTION_LAWS:
+            return _FUNCTION_LAWS[law]
+        name = getattr(law, "__name__", "python-law").lower().replace("_", "-").strip("-") or "python-law"
+        return register_law(name, law)
+    raise TypeError(f"law must be a name or a function theta_rate(v, theta, dc, b, stress_rate), not {law!r}")
 
 
 # ---------------------------------------------------------------------------- model objects
 
 @dataclass
 class State:
-    """One state variable: its evolution ``law`` (a built-in name, or a Python callable
-    ``theta_rate(v, theta, dc, b, stress_rate) -> dθ/dt``), ``b``, ``dc`` (µm), the law's own
-    parameter (``vc`` µm/s for Kato–Tullis, ``c`` for Nagata) and the Linker–Dieterich ``alpha``.
+    """One state variable: its evolution ``law`` (a registered name — see :func:`laws` — or a
+    Python callable ``theta_rate(v, theta, dc, b, stress_rate) -> dθ/dt``), ``b``, ``dc`` (µm),
+    the law's own parameters (``vc`` µm/s for Kato–Tullis, ``c`` for Nagata, or any by name in
+    ``params``, e.g. ``{"n": 1.5}`` for a law file's) and the Linker–Dieterich ``alpha``.
 
     A Python law is the slow path: about 1 µs per call, one call per state per right-hand side,
     derivatives for implicit methods by central differences.
@@ -65,6 +116,7 @@ class State:
     vc: Optional[float] = None
     c: Optional[float] = None
     alpha: float = 0.0
+    params: Optional[dict] = None
 
 
 @dataclass
@@ -127,7 +179,7 @@ def _to_spec(setup: Setup) -> dict:
     states = []
     for s in m.states:
         law = s.law if isinstance(s.law, str) else "aging"  # placeholder for a Python law
-        states.append(_fields(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None))
+        states.append(_fields(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None, **(s.params or {})))
     segments = []
     for seg in p.segments:
         v, spec = (seg["v"], {k: x for k, x in seg.items() if k != "v"}) if isinstance(seg, Mapping) else seg
@@ -316,12 +368,23 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
     for k, v in (("method", method), ("rtol", rtol), ("atol", atol)):
         if v is not None:
             setup.solver[k] = v
-    laws = [None if isinstance(s.law, str) else s.law for s in setup.model.states]
     for s in setup.model.states:
         if not isinstance(s.law, str) and not callable(s.law):
-            raise ValueError(f"state law {s.law!r}: give a name ({', '.join(LAWS)}) or a callable")
+            raise ValueError(f"state law {s.law!r}: give a name ({', '.join(laws())}) or a callable")
+        if callable(s.law) and s.params:
+            if s.law not in _FUNCTION_LAWS:
+                raise ValueError("a Python law with parameters of its own: register it with rsf.register_law(name, "
+                                 "function, parameters={...}), then give the function or its name")
+    # registered functions go by name (with their parameters); others as the solve's own callables
+    named = [s.law if isinstance(s.law, str) else _FUNCTION_LAWS.get(s.law) for s in setup.model.states]
+    laws_ = [None if n is not None else s.law for n, s in zip(named, setup.model.states)]
+    states = [State(n, s.b, s.dc, s.vc, s.c, s.alpha, s.params) if n is not None else s
+              for n, s in zip(named, setup.model.states)]
+    setup = Setup(Model(setup.model.mu0, setup.model.v0, setup.model.a, setup.model.stiffness, states,
+                        setup.model.eta, setup.model.form, setup.model.normal_stress),
+                  setup.protocol, setup.output, setup.solver, setup.initial, setup.source)
     base = os.path.dirname(os.path.abspath(setup.source)) if setup.source else None
-    return SimulationResult(_rsf.simulate_spec(_to_spec(setup), base, setup.source or "Python objects", laws=laws,
+    return SimulationResult(_rsf.simulate_spec(_to_spec(setup), base, setup.source or "Python objects", laws=laws_,
                                                **arrays))
 
 
@@ -377,8 +440,8 @@ def _columns(record: Optional[Mapping[str, Any]], time, load_point, mu, normal_s
     return f64(time), f64(load_point), f64(mu), (None if normal_stress is None else f64(normal_stress))
 
 
-def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: str = "slip",
-        laws: Optional[Sequence[str]] = None, loading: str = "protocol", fit_stiffness: bool = False,
+def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Union[str, ThetaRate] = "slip",
+        laws: Optional[Sequence[Union[str, ThetaRate]]] = None, loading: str = "protocol", fit_stiffness: bool = False,
         fit_slip_trend: bool = False, fit_alpha: Optional[str] = None, normal_stress_mode: str = "auto",
         fix: Sequence[str] = (), initial: Optional[Mapping[str, float]] = None, rtol: float = 1e-7,
         starts: int = 4, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
@@ -388,7 +451,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
-    state), ``loading`` (``"protocol"`` or ``"record"``), ``fit_stiffness``, ``fit_slip_trend``,
+    state; a registered name or a Python function, which is registered under its ``__name__``), ``loading`` (``"protocol"`` or ``"record"``), ``fit_stiffness``, ``fit_slip_trend``,
     ``fit_alpha`` (None, ``"shared"``, ``"per-state"``), ``fix`` (e.g. ``["a-b=-0.003"]``),
     ``initial`` (name → value), ``window_um``, ``mu0_per_segment``, ``weights`` (``"equal"`` or
     ``"uniform"``), ``per_segment`` (refit each step and hold alone: ``per_segment`` in the
@@ -402,8 +465,9 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: st
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
     raw, samples, names, curve = _rsf.fit_json(
-        t, x, m, stiffness, law=law, loading=loading, fit_stiffness=fit_stiffness, normal_stress=sn,
-        normal_stress_mode=normal_stress_mode, fit_alpha=fit_alpha, laws=None if laws is None else list(laws),
+        t, x, m, stiffness, law=_law_name(law), loading=loading, fit_stiffness=fit_stiffness, normal_stress=sn,
+        normal_stress_mode=normal_stress_mode, fit_alpha=fit_alpha,
+        laws=None if laws is None else [_law_name(x) for x in laws],
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
         mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads)

@@ -6,8 +6,17 @@ from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
-ThetaRate = Callable[[float, float, float, float, float], float]
+ThetaRate = Callable[..., float]
 LAWS: tuple[str, ...]
+
+def load_law(path: Union[str, os.PathLike[str]]) -> str: ...
+def register_law(
+    name: str,
+    theta_rate: ThetaRate,
+    parameters: Optional[Mapping[str, Mapping[str, Any]]] = ...,
+    words: Optional[str] = ...,
+) -> str: ...
+def laws() -> list[str]: ...
 
 class SolveError(ValueError):
     time: float
@@ -24,6 +33,7 @@ class State:
     vc: Optional[float] = ...
     c: Optional[float] = ...
     alpha: float = ...
+    params: Optional[dict[str, float]] = ...
 
 @dataclass
 class Model:
@@ -115,8 +125,8 @@ def fit(
     record: Optional[Mapping[str, Any]] = ...,
     *,
     stiffness: float,
-    law: str = ...,
-    laws: Optional[Sequence[str]] = ...,
+    law: Union[str, ThetaRate] = ...,
+    laws: Optional[Sequence[Union[str, ThetaRate]]] = ...,
     loading: str = ...,
     fit_stiffness: bool = ...,
     fit_slip_trend: bool = ...,
