@@ -21,14 +21,31 @@ use std::sync::Mutex;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let dir = std::path::PathBuf::from(args.first().ok_or("usage: detection_study DIR [--only CAUSE] [--jobs N]")?);
+    let dir = std::path::PathBuf::from(
+        args.first()
+            .ok_or("usage: detection_study DIR [--only CAUSE] [--family FAMILY] [--law-file FILE] [--jobs N]")?,
+    );
     let flag = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
     let only = flag("--only");
+    let family = flag("--family");
+    // a law file registered first: its law is a candidate of every diagnosis (docs/laws.md)
+    let law_file = flag("--law-file");
+    if let Some(f) = &law_file {
+        rsf_laws::text_law::register_file(std::path::Path::new(f))?;
+    }
     let jobs: usize = flag("--jobs").map_or(Ok(2), |j| j.parse())?;
     let manifest: Vec<Value> = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
-    let todo: Vec<&Value> =
-        manifest.iter().filter(|m| only.as_deref().is_none_or(|c| m["cause"].as_str() == Some(c))).collect();
-    let out_path = dir.join(format!("results_{}.jsonl", only.as_deref().unwrap_or("all")));
+    let todo: Vec<&Value> = manifest
+        .iter()
+        .filter(|m| only.as_deref().is_none_or(|c| m["cause"].as_str() == Some(c)))
+        .filter(|m| family.as_deref().is_none_or(|f| m["family"].as_str() == Some(f)))
+        .collect();
+    let tag = [only.as_deref(), family.as_deref(), law_file.as_ref().map(|_| "law_file")]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join("_");
+    let out_path = dir.join(format!("results_{}.jsonl", if tag.is_empty() { "all" } else { &tag }));
     let out = Mutex::new(std::fs::File::create(&out_path)?);
     let next = std::sync::atomic::AtomicUsize::new(0);
     let results: Mutex<Vec<Value>> = Mutex::new(vec![]);
@@ -87,6 +104,14 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["adequacy_excess"] = json!(d.adequacy.excess);
             r["adequacy_p"] = json!(d.adequacy.p_value);
             r["law"] = json!(d.effect.law);
+            // laws the record cannot tell from the one named (the evolution-law candidate's)
+            r["equally_good_laws"] = json!(
+                d.candidates
+                    .iter()
+                    .find(|c| c.cause == d.cause)
+                    .map(|c| c.equally_good_laws.clone())
+                    .unwrap_or_default()
+            );
             r["secondary"] = json!(d.secondary.as_ref().map(|s| s.cause.as_str()));
             r["effect"] = json!(d.effect);
             r["confidence"] = json!(d.confidence);

@@ -1,5 +1,6 @@
 //! A state law written in Python: a callable `theta_rate(v, theta, dc, b, stress_rate,
-//! *params)` returning dθ/dt (s/s), used by every solver like a built-in law; registered
+//! *params)` returning dθ/dt (s/s) — given `sigma` (MPa) and `sigma_rate` (MPa/s) by keyword
+//! when its signature names `sigma` — used by every solver like a built-in law; registered
 //! (`rsf.register_law`), by every fit and diagnosis too, its own parameters fitted.
 //!
 //! The slow path, on purpose: each right-hand side takes the GIL and calls Python once per
@@ -18,6 +19,8 @@ pub struct PyLaw {
     name: String,
     /// The law's own parameters (passed after `stress_rate`, in this order).
     params: Vec<(&'static str, f64)>,
+    /// The function takes `sigma` (MPa) and `sigma_rate` (MPa/s) by keyword.
+    sigma: bool,
     /// The first error raised by the callable (re-raised after the solve).
     pub error: Arc<Mutex<Option<PyErr>>>,
 }
@@ -31,7 +34,16 @@ impl std::fmt::Debug for PyLaw {
 impl PyLaw {
     /// Wraps `f`; `name` labels it in messages and output.
     pub fn new(f: Py<PyAny>, name: String) -> Self {
-        Self { f: Arc::new(f), name, params: vec![], error: Arc::new(Mutex::new(None)) }
+        // a function whose signature names `sigma` gets the normal stress and its rate by
+        // keyword; one that does not is called as before
+        let sigma = Python::attach(|py| {
+            py.import("inspect")
+                .and_then(|m| m.call_method1("signature", (f.bind(py),)))
+                .and_then(|sig| sig.getattr("parameters"))
+                .and_then(|p| p.contains("sigma"))
+                .unwrap_or(false)
+        });
+        Self { f: Arc::new(f), name, params: vec![], sigma, error: Arc::new(Mutex::new(None)) }
     }
 
     /// The same law with its own parameters (name, value), passed after `stress_rate`.
@@ -42,12 +54,22 @@ impl PyLaw {
 
     /// Calls the function at plain values; NaN (with the error kept) when it raises or
     /// returns something that is not a number.
-    fn call(&self, v: f64, theta: f64, dc: f64, b: f64, stress_rate: f64) -> f64 {
+    fn call(&self, s: &StateArgs<f64>) -> f64 {
         Python::attach(|py| {
-            let mut args = vec![v, theta, dc, b, stress_rate];
+            let mut args = vec![s.v, s.theta, s.dc, s.b, s.stress_rate];
             args.extend(self.params.iter().map(|p| p.1));
             let args = pyo3::types::PyTuple::new(py, args);
-            let r = args.and_then(|a| self.f.call1(py, a)).and_then(|x| x.extract::<f64>(py));
+            let kwargs = if self.sigma {
+                let d = pyo3::types::PyDict::new(py);
+                d.set_item("sigma", s.normal_stress)
+                    .and_then(|()| d.set_item("sigma_rate", s.normal_stress_rate))
+                    .map(|()| Some(d))
+            } else {
+                Ok(None)
+            };
+            let r = args
+                .and_then(|a| kwargs.and_then(|k| self.f.call(py, a, k.as_ref())))
+                .and_then(|x| x.extract::<f64>(py));
             r.unwrap_or_else(|e| {
                 let mut slot = self.error.lock().unwrap_or_else(|p| p.into_inner());
                 if slot.is_none() {
@@ -64,7 +86,15 @@ impl StateLaw for PyLaw {
     /// central differences, so this is never asked for dual numbers (their derivative parts
     /// would be zero).
     fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
-        R::from(self.call(s.v.re(), s.theta.re(), s.dc.re(), s.b.re(), s.stress_rate.re()))
+        R::from(self.call(&StateArgs {
+            v: s.v.re(),
+            theta: s.theta.re(),
+            dc: s.dc.re(),
+            b: s.b.re(),
+            stress_rate: s.stress_rate.re(),
+            normal_stress: s.normal_stress.re(),
+            normal_stress_rate: s.normal_stress_rate.re(),
+        }))
     }
 
     fn name(&self) -> String {
@@ -86,7 +116,9 @@ impl StateLaw for PyLaw {
     }
 
     fn jet(&self, s: &StateArgs<f64>) -> Jet {
-        let g = |v: f64, th: f64, dc: f64, b: f64, sr: f64| self.call(v, th, dc, b, sr);
+        let g = |v: f64, theta: f64, dc: f64, b: f64, stress_rate: f64| {
+            self.call(&StateArgs { v, theta, dc, b, stress_rate, ..*s })
+        };
         let rate = g(s.v, s.theta, s.dc, s.b, s.stress_rate);
         let cd = |x: f64, f: &dyn Fn(f64) -> f64| {
             let h = 1e-6 * x.abs().max(1e-12);

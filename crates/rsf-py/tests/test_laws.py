@@ -120,3 +120,19 @@ def test_bad_laws_say_what_is_wrong(tmp_path):
     bad.write_text('name = "bad"\ntheta_rate = "1 - omega^m"\n')
     with pytest.raises(ValueError, match=r"bad_law.toml:2:25: unknown name `m`"):
         rsf.load_law(bad)
+
+
+def test_a_python_law_that_names_sigma_gets_the_normal_stress():
+    seen = set()
+
+    def sigma_aging(v, theta, dc, b, stress_rate, sigma=None, sigma_rate=None):
+        seen.add(round(sigma, 9))
+        return 1.0 - v * theta / dc
+
+    m = rsf.Model(mu0=0.6, v0=1.0, a=0.008, stiffness=0.02, normal_stress=10.0,
+                  states=[rsf.State(law=sigma_aging, b=0.011, dc=5.0)])
+    p = rsf.Protocol(v_init=1.0, segments=[(1.0, {"displacement": 20.0}),
+                                           (1.0, {"displacement": 20.0, "normal_stress": 12.0})])
+    out = rsf.simulate(m, p, dt=0.5)
+    # 10 and 12 MPa along the protocol (and 1, where the steady state is solved: docs/laws.md)
+    assert np.all(np.isfinite(out.mu)) and {10.0, 12.0} <= seen <= {1.0, 10.0, 12.0}, seen

@@ -33,6 +33,9 @@ pub(super) struct FullFit {
     pub(super) o: FitOptions,
     pub(super) f: FitResult,
     pub(super) nf: Noisy,
+    /// Other one-law ways of the cause that explain the record as well (see
+    /// [`Candidate::equally_good_laws`]).
+    pub(super) alike: Vec<String>,
 }
 
 /// A free stiffness fitted from the nominal k that stays above this fraction of it has not
@@ -125,7 +128,7 @@ impl Ctx<'_> {
         bn: &Noisy,
         threads: usize,
         only: Option<&str>,
-    ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy)> {
+    ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy, Vec<String>)> {
         let mut single: Option<Params> = None;
         let mut fitted = vec![];
         for (ext, o) in self.variants(cause) {
@@ -158,7 +161,20 @@ impl Ctx<'_> {
             let en = noisy(&f);
             fitted.push((scores(base, bn, &f, &en).0, (ext, o, pc, f, en)));
         }
-        fitted.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, v)| v)
+        let best = fitted.iter().enumerate().min_by(|a, b| a.1.0.total_cmp(&b.1.0)).map(|(i, _)| i)?;
+        let one_law = |o: &FitOptions| (o.laws.len() == 1).then(|| o.laws[0].name());
+        let best_score = fitted[best].0;
+        // the other one-law ways that the record cannot tell from the best: within the decisive
+        // threshold of its score (e.g. PRZ and power-law aging at n = 2, the same model)
+        let alike = match one_law(&fitted[best].1.1) {
+            Some(law) => fitted
+                .iter()
+                .filter_map(|(score, v)| one_law(&v.1).filter(|l| *l != law && score - best_score < -DECISIVE))
+                .collect(),
+            None => vec![],
+        };
+        let (_, (ext, o, pc, f, en)) = fitted.swap_remove(best);
+        Some((ext, o, pc, f, en, alike))
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -188,9 +204,9 @@ impl Ctx<'_> {
     /// The extension `cause` fitted to the whole record from the baseline optimum: its best way.
     pub(super) fn full_fit(&self, cause: Cause) -> Option<FullFit> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
-        let (extension, o, _, f, nf) =
+        let (extension, o, _, f, nf, alike) =
             self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads, None)?;
-        Some(FullFit { extension, o, f, nf })
+        Some(FullFit { extension, o, f, nf, alike })
     }
 
     /// The held-out test of the extension `o`: its training fit, from the baseline's training
@@ -215,7 +231,7 @@ impl Ctx<'_> {
 
     /// The candidate `cause` from its fit on the whole record and its held-out test.
     pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
-        let FullFit { extension, o, f, nf } = full;
+        let FullFit { extension, o, f, nf, alike } = full;
         let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
@@ -237,6 +253,7 @@ impl Ctx<'_> {
                 && (self.sigma_held_out || self.training_blind(cause, &f, training_gain)),
             drift_share_after: nf.model.drift_share,
             effect: effect_of(&[cause], &f),
+            equally_good_laws: alike,
             adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
@@ -336,7 +353,7 @@ impl Ctx<'_> {
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
             // the classic ways and the way the record chose: a null replicate of every law of
             // the library would cost three more fits of the evolution law per replicate
-            let (_, _, _, fc, nc) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
+            let (_, _, _, fc, nc, _) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
             Some(gain(&fb, &nb, &fc, &nc))
         };
         let seeds: Vec<u64> =

@@ -166,6 +166,19 @@ pub(super) fn verdict(
                 match secondary {
                     Some(s) => format!("; adding {} gains a further ΔBIC = {:.1}", s.cause, s.delta_bic),
                     None => String::new(),
+                } + &if c.equally_good_laws.is_empty() {
+                    String::new()
+                } else {
+                    let laws = &c.equally_good_laws;
+                    let list = match laws.as_slice() {
+                        [one] => format!("the {one} law explains"),
+                        [rest @ .., last] => format!("the {} and {last} laws explain", rest.join(", ")),
+                        [] => String::new(),
+                    };
+                    format!(
+                        "; {list} the record as well (ΔBIC within {}): the record cannot tell them apart",
+                        -DECISIVE
+                    )
                 },
                 rejected_note
             ),

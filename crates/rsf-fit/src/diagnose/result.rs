@@ -79,6 +79,11 @@ pub struct Candidate {
     pub drift_share_after: f64,
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: Effect,
+    /// Other laws (one state, fitted the same way) that explain the record as well as the one
+    /// named: ΔBIC within the decisive threshold of its own. The record cannot tell them apart
+    /// (e.g. PRZ and power-law aging at n = 2 with Dc doubled, which are the same model).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub equally_good_laws: Vec<String>,
     /// The adequacy test's excess for this extension's fit (1: its event windows look like
     /// noise; `diagnose/adequacy.rs`); NaN where untestable.
     pub adequacy_excess: f64,

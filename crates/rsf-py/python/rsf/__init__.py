@@ -60,7 +60,8 @@ def load_law(path: Union[str, os.PathLike]) -> str:
 def register_law(name: str, theta_rate: ThetaRate, parameters: Optional[Mapping[str, Mapping[str, Any]]] = None,
                  words: Optional[str] = None) -> str:
     """Registers a Python function ``theta_rate(v, theta, dc, b, stress_rate, *params) -> dθ/dt``
-    as law ``name`` (lower case, digits and ``-``). ``parameters`` maps each own parameter, in
+    as law ``name`` (lower case, digits and ``-``); a function whose signature names ``sigma``
+    is also given ``sigma`` (MPa) and ``sigma_rate`` (MPa/s) by keyword. ``parameters`` maps each own parameter, in
     the order the function takes them, to ``{"range": (lo, hi), "start": x}`` and optionally
     ``"unit"`` and ``"log"``. The law is then used by name everywhere, like a law file's.
 
