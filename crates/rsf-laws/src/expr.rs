@@ -255,7 +255,11 @@ impl Parser<'_> {
     /// Unary minus binds looser than `^`: `-x^2` is `-(x^2)`.
     fn unary(&mut self) -> Result<Expr, ParseError> {
         if self.eat_op(&['-']).is_some() {
-            return Ok(Expr::Neg(self.unary()?.into()));
+            // a negative number is a number (so that `x^-2` is an integer power)
+            return Ok(match self.unary()? {
+                Expr::Num(x) => Expr::Num(-x),
+                e => Expr::Neg(e.into()),
+            });
         }
         if self.eat_op(&['+']).is_some() {
             return self.unary();
@@ -334,6 +338,10 @@ mod tests {
         assert!((ev("ln(exp(x)) + sqrt(y*y) - log10(100) + tanh(0)", &v) - 3.0).abs() < 1e-15);
         assert_eq!(ev("(-x)^2", &v), 4.0);
         assert!((ev("x^n", &v) - 2f64.powf(1.5)).abs() < 1e-15);
+        // a negative integer exponent is an integer power: defined, with its derivative, for x < 0
+        assert_eq!(Expr::parse("x^-2", &["x"]).unwrap(), Expr::Pow(Expr::Slot(0).into(), Expr::Num(-2.0).into()));
+        let d = Expr::parse("x^-2", &["x"]).unwrap().eval(&[Dual64::from_re(-2.0).derivative()]);
+        assert!((d.re - 0.25).abs() < 1e-15 && (d.eps - 0.25).abs() < 1e-15, "{d:?}");
     }
 
     #[test]

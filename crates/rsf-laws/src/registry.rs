@@ -112,6 +112,7 @@ pub struct LawEntry {
     parameters: Vec<LawParameter>,
     origin: Origin,
     source: Option<String>,
+    candidate: bool,
     construct: Constructor,
 }
 
@@ -140,6 +141,7 @@ impl LawEntry {
             parameters,
             origin: Origin::Rust,
             source: None,
+            candidate: true,
             construct: Arc::new(construct),
         }
     }
@@ -153,6 +155,17 @@ impl LawEntry {
     pub fn with_source(mut self, source: &str) -> Self {
         self.source = Some(source.into());
         self
+    }
+    /// The same entry, tried by the diagnosis as a candidate law or not (a Python function
+    /// registered only because it was given to a fit is not: it would slow every later
+    /// diagnosis of the session to its pace).
+    pub fn with_candidate(mut self, candidate: bool) -> Self {
+        self.candidate = candidate;
+        self
+    }
+    /// Whether the diagnosis tries it as a candidate law.
+    pub fn candidate(&self) -> bool {
+        self.candidate
     }
     /// The text that defines the law, when it came from one.
     pub fn source(&self) -> Option<&str> {
@@ -214,6 +227,7 @@ fn builtin_entries() -> Vec<LawEntry> {
             parameters: l.specs().to_vec(),
             origin: Origin::BuiltIn(l),
             source: None,
+            candidate: true,
             construct: Arc::new(move |v: &[f64]| {
                 let specs = l.specs();
                 l.build(|p| specs.iter().position(|s| s.name == p).map(|i| v[i]))
@@ -237,12 +251,30 @@ pub fn check_name(name: &str) -> Result<(), String> {
     if ok { Ok(()) } else { Err(format!("law name `{name}`: use lower-case letters, digits and `-`, from a letter")) }
 }
 
-/// Registers a law. A name rsf has built in is refused; a name already registered by a
-/// program is replaced (so that a text file edited and loaded again takes effect).
-pub fn register(entry: LawEntry) -> Result<(), String> {
+/// Names a law's own parameter may not take: the model's parameters and a state table's fields
+/// (a fit names a law parameter `n` of state 1 `n1`, beside `b1`, `dc1`, `alpha1`).
+pub const RESERVED_PARAMETER_NAMES: [&str; 8] = ["mu0", "a", "k", "g", "b", "dc", "alpha", "law"];
+
+/// Checks a law parameter's name: lower-case letters only (a fit appends the state's number),
+/// none of [`RESERVED_PARAMETER_NAMES`].
+pub fn check_parameter_name(name: &str) -> Result<(), String> {
+    if !name.is_empty() && name.chars().all(|c| c.is_ascii_lowercase()) && !RESERVED_PARAMETER_NAMES.contains(&name) {
+        Ok(())
+    } else {
+        Err(format!(
+            "parameter name `{name}`: use lower-case letters only (a fit names it with the state's number: n → n1), \
+             and none of {}",
+            RESERVED_PARAMETER_NAMES.join(", ")
+        ))
+    }
+}
+
+/// Checks an entry's name and parameter specs (what [`register`] refuses).
+pub fn check_entry(entry: &LawEntry) -> Result<(), String> {
     check_name(&entry.name)?;
     let mut seen = std::collections::HashSet::new();
     for p in &entry.parameters {
+        check_parameter_name(p.name).map_err(|m| format!("law `{}`: {m}", entry.name))?;
         if !seen.insert(p.name) {
             return Err(format!("law `{}` lists parameter `{}` twice", entry.name, p.name));
         }
@@ -255,6 +287,13 @@ pub fn register(entry: LawEntry) -> Result<(), String> {
         let s = p.start_value(None);
         p.check(s).map_err(|m| format!("law `{}`: the start of {m}", entry.name))?;
     }
+    Ok(())
+}
+
+/// Registers a law. A name rsf has built in is refused; a name already registered by a
+/// program is replaced (so that a text file edited and loaded again takes effect).
+pub fn register(entry: LawEntry) -> Result<(), String> {
+    check_entry(&entry)?;
     let mut list = REGISTRY.write().unwrap_or_else(|e| e.into_inner());
     match list.iter().position(|e| e.name == entry.name) {
         Some(i) if list[i].builtin().is_some() => {
@@ -369,6 +408,19 @@ mod tests {
         assert!(register(e).unwrap_err().contains("built-in"));
         assert!(register(LawEntry::new("Bad Name", "", vec![], |_| Ok(Arc::new(crate::Slip)))).is_err());
         assert!(find("no-such-law").unwrap_err().contains("aging, slip"));
+    }
+
+    /// A parameter a fit could not name, or would confuse with the model's own, is refused.
+    #[test]
+    fn parameter_names_a_fit_can_use() {
+        let law = |name: &'static str| {
+            let p = LawParameter { name, unit: "", lo: 0.0, hi: 1.0, log: false, start: Start::Value(0.5) };
+            LawEntry::new("names-test", "", vec![p], |_| Ok(Arc::new(crate::Slip)))
+        };
+        for bad in ["alpha", "b", "dc", "n_exp", "k2x", "N", ""] {
+            assert!(register(law(bad)).unwrap_err().contains("parameter name"), "{bad}");
+        }
+        assert!(check_entry(&law("nexp")).is_ok());
     }
 
     #[test]

@@ -186,8 +186,8 @@ pub fn parse(text: &str, origin: &str) -> Result<LawEntry, String> {
         Ok(Arc::new(TextLaw { def: def.clone(), values }))
     })
     .with_source(text);
-    // the registry checks the specs (ranges, starts) when the entry is registered; check them
-    // here as well so that a file is judged the same whether or not it is registered
+    // judged as the registry judges it, whether or not it is registered (`rsf check-law`)
+    registry::check_entry(&entry).map_err(|m| format!("{origin}: {m}"))?;
     entry.with_starting_values().map_err(|m| format!("{origin}: {m}"))?;
     Ok(entry)
 }
@@ -209,19 +209,13 @@ fn definition(text: &str, origin: &str) -> Result<Definition, String> {
         if parameters.len() == MAX_PARAMETERS {
             return Err(at(span.start, &format!("a text law has at most {MAX_PARAMETERS} parameters")));
         }
-        let ok_name = r.name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-            && r.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-            && !r.name.chars().last().is_some_and(|c| c.is_ascii_digit());
-        if !ok_name || VARIABLES.contains(&r.name.as_str()) {
+        if VARIABLES.contains(&r.name.as_str()) {
             return Err(at(
                 span.start,
-                &format!(
-                    "parameter name `{}`: use letters, digits and `_`, not ending in a digit, and none of {}",
-                    r.name,
-                    VARIABLES.join(", ")
-                ),
+                &format!("parameter name `{}` is one of the law's variables ({})", r.name, VARIABLES.join(", ")),
             ));
         }
+        registry::check_parameter_name(&r.name).map_err(|m| at(span.start, &m))?;
         parameters.push(LawParameter {
             name: registry::intern(&r.name),
             unit: registry::intern(&r.unit),

@@ -20,14 +20,16 @@ pub fn law_names() -> Vec<String> {
 }
 
 /// Registers a Python callable `f(v, theta, dc, b, stress_rate, *params)` as law `name`, with
-/// its parameters as (name, unit, lo, hi, log, start); returns the name.
+/// its parameters as (name, unit, lo, hi, log, start); returns the name. `candidate`: whether
+/// the diagnosis tries it.
 #[pyfunction]
-#[pyo3(signature = (name, f, words, params))]
+#[pyo3(signature = (name, f, words, params, candidate=true))]
 pub fn register_py_law(
     name: &str,
     f: Py<PyAny>,
     words: &str,
     params: Vec<(String, String, f64, f64, bool, f64)>,
+    candidate: bool,
 ) -> PyResult<String> {
     let specs: Vec<LawParameter> = params
         .iter()
@@ -45,7 +47,8 @@ pub fn register_py_law(
     let entry = LawEntry::new(name, words, specs, move |v: &[f64]| {
         Ok(Arc::new(base.clone().with_params(names.iter().copied().zip(v.iter().copied()).collect())))
     })
-    .with_origin(Origin::Python);
+    .with_origin(Origin::Python)
+    .with_candidate(candidate);
     registry::register(entry).map_err(value_error)?;
     Ok(name.to_string())
 }

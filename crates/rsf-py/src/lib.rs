@@ -173,9 +173,11 @@ fn run<'py>(
     }
     let sol = py.detach(|| p.method.solve(&p.problem));
     // an exception the callable raised matters only when the solve failed: a trial stage the
-    // solver rejected (an explicit method's overshoot to V = 1e237, say) costs nothing
+    // solver rejected (an explicit method's overshoot to V = 1e237, say) costs nothing. Every
+    // Python law of the model is asked: the placeholders' and the registered ones'.
     if sol.is_err() {
-        for l in &py_laws {
+        let registered = p.problem.model.states.iter().filter_map(|st| st.law.as_any().downcast_ref::<pylaw::PyLaw>());
+        for l in py_laws.iter().chain(registered) {
             if let Some(e) = l.error.lock().unwrap_or_else(|e| e.into_inner()).take() {
                 return Err(e);
             }

@@ -59,7 +59,8 @@ def power_aging(v, theta, dc, b, stress_rate, n):
 
 
 def test_a_python_function_with_a_parameter_fits_it():
-    name = rsf.register_law("power-aging-py", power_aging, parameters={"n": {"range": (0.2, 5.0), "start": 1.0}})
+    name = rsf.register_law("power-aging-py", power_aging, parameters={"n": {"range": (0.2, 5.0), "start": 1.0}},
+                            candidate=False)
     assert name in rsf.laws()
     # the same law as the file, to the solver's tolerance
     rsf.load_law(POWER_FILE)
@@ -136,3 +137,39 @@ def test_a_python_law_that_names_sigma_gets_the_normal_stress():
     out = rsf.simulate(m, p, dt=0.5)
     # 10 and 12 MPa along the protocol (and 1, where the steady state is solved: docs/laws.md)
     assert np.all(np.isfinite(out.mu)) and {10.0, 12.0} <= seen <= {1.0, 10.0, 12.0}, seen
+
+
+def test_function_names_and_parameter_names_are_made_safe():
+    # a lambda, a name rsf has built in, two closures of one name: each its own law
+    lam = lambda v, th, dc, b, sr: 1.0 - v * th / dc  # noqa: E731
+
+    def aging(v, th, dc, b, sr):
+        return 1.0 - v * th / dc
+
+    def make(k):
+        def scaled(v, th, dc, b, sr):
+            return k * (1.0 - v * th / dc)
+        return scaled
+
+    rec = rsf.read_record(POWER_RECORD)
+    keep = rec["time_s"] <= 100.0
+    cols = dict(time=rec["time_s"][keep], load_point=rec["load_point_um"][keep], mu=rec["mu"][keep])
+    names = [rsf.fit(stiffness=0.02, law=f, starts=1, **cols).params["laws"][0]
+             for f in (lam, aging, make(1.0), make(2.0))]
+    assert names[0] == "lambda" and names[1] == "aging-2" and names[2] != names[3], names
+    # a parameter named like a model parameter cannot be fitted by name: refused when registered
+    with pytest.raises(ValueError, match="parameter name `alpha`"):
+        rsf.register_law("bad-param", power_aging, parameters={"alpha": {"range": (0.2, 5.0), "start": 1.0}})
+    # a law's own parameter given twice is an error, not a TypeError
+    m = rsf.Model(mu0=0.6, v0=1.0, a=0.008, stiffness=0.02,
+                  states=[rsf.State(law="nagata", b=0.011, dc=5.0, c=1.0, params={"c": 2.0})])
+    with pytest.raises(ValueError, match="given twice"):
+        rsf.simulate(m, rsf.Protocol(v_init=1.0, segments=[(1.0, {"displacement": 10.0})]), dt=1.0)
+
+
+def test_load_protocol_keeps_a_laws_own_parameters():
+    setup = rsf.load_protocol(os.path.join(ROOT, "examples", "power_aging_steps.toml"))
+    assert setup.model.states[0].params == {"n": 1.5}
+    out = rsf.simulate(setup)
+    ref = rsf.simulate(os.path.join(ROOT, "examples", "power_aging_steps.toml"))
+    assert np.array_equal(out.mu, ref.mu)

@@ -125,19 +125,23 @@ impl Cause {
                     // share of the evolution effect carried by the other law
                     effect.b_other_fraction = Some(pr.b[1] / (pr.b[0] + pr.b[1]));
                 }
-                // a library law's own parameter (Nagata's c, the one-state mixture's aging share)
-                effect.c = pr.law_params.get("c1").copied();
-                effect.w = pr.law_params.get("w1").copied();
-                // a registered law's own parameters (power-law aging's n), by their names
-                if let [law] = pr.laws.as_slice() {
-                    if let Ok(entry) = rsf_laws::registry::find(law) {
-                        if entry.builtin().is_none() {
-                            for p in entry.parameters() {
-                                if let Some(x) = pr.law_params.get(&format!("{}1", p.name)) {
-                                    effect.law_parameters.insert(p.name.to_string(), *x);
-                                }
+                // a library law's own parameter (Nagata's c, the one-state mixture's aging share);
+                // a registered law's own parameters (power-law aging's n) by their names
+                let entry = match pr.laws.as_slice() {
+                    [law] => rsf_laws::registry::find(law).ok(),
+                    _ => None,
+                };
+                match entry.as_ref().map(|e| (e.builtin(), e)) {
+                    Some((None, e)) => {
+                        for p in e.parameters() {
+                            if let Some(x) = pr.law_params.get(&format!("{}1", p.name)) {
+                                effect.law_parameters.insert(p.name.to_string(), *x);
                             }
                         }
+                    }
+                    Some((Some(_), _)) | None => {
+                        effect.c = pr.law_params.get("c1").copied();
+                        effect.w = pr.law_params.get("w1").copied();
                     }
                 }
             }
@@ -195,7 +199,7 @@ pub struct Effect {
     #[serde(skip)]
     pub second_state: Option<usize>,
     /// The own parameters of a registered (not built-in) law named as the evolution law, by
-    /// name (power-law aging's `n`).
+    /// name (power-law aging's `n`; serialised after the fields above).
     #[serde(flatten)]
     pub law_parameters: std::collections::BTreeMap<String, f64>,
 }
@@ -328,7 +332,8 @@ pub(super) fn library_laws() -> Vec<rsf_laws::LawEntry> {
         .into_iter()
         .filter(|e| match e.builtin() {
             Some(Law::Aging | Law::Slip | Law::KatoTullis) => false,
-            Some(Law::Prz | Law::Nagata | Law::AgingSlip) | None => true,
+            Some(Law::Prz | Law::Nagata | Law::AgingSlip) => true,
+            None => e.candidate(),
         })
         .collect()
 }

@@ -58,21 +58,22 @@ def load_law(path: Union[str, os.PathLike]) -> str:
 
 
 def register_law(name: str, theta_rate: ThetaRate, parameters: Optional[Mapping[str, Mapping[str, Any]]] = None,
-                 words: Optional[str] = None) -> str:
+                 words: Optional[str] = None, candidate: bool = True) -> str:
     """Registers a Python function ``theta_rate(v, theta, dc, b, stress_rate, *params) -> dθ/dt``
     as law ``name`` (lower case, digits and ``-``); a function whose signature names ``sigma``
     is also given ``sigma`` (MPa) and ``sigma_rate`` (MPa/s) by keyword. ``parameters`` maps each own parameter, in
     the order the function takes them, to ``{"range": (lo, hi), "start": x}`` and optionally
     ``"unit"`` and ``"log"``. The law is then used by name everywhere, like a law file's.
 
-    The slow path: about 1 µs per call and derivatives by central differences (a law file is
-    evaluated in Rust with exact derivatives; docs/BENCHMARKS.md has both costs)."""
+    With ``candidate`` (default) every later :func:`diagnose` of the session tries it as the
+    evolution law. The slow path: about 1 µs per call and derivatives by central differences (a
+    law file is evaluated in Rust with exact derivatives; docs/BENCHMARKS.md has both costs)."""
     specs = []
     for pname, spec in (parameters or {}).items():
         lo, hi = spec["range"]
         specs.append((pname, spec.get("unit", ""), float(lo), float(hi), bool(spec.get("log", False)),
                       float(spec["start"])))
-    name = _rsf.register_py_law(name, theta_rate, words or name, specs)
+    name = _rsf.register_py_law(name, theta_rate, words or name, specs, candidate=candidate)
     _FUNCTION_LAWS[theta_rate] = name
     return name
 
@@ -88,14 +89,27 @@ _FUNCTION_LAWS: dict = {}  # function → the name it was registered under
 
 def _law_name(law: Union[str, ThetaRate]) -> str:
     """A law given by name, or a Python function: the name it was registered under, or else
-    registered (without parameters of its own) under its ``__name__``."""
+    registered (without parameters of its own, and not as a candidate of later diagnoses) under
+    its ``__name__`` made a law name (``my_law`` → ``my-law``, a lambda → ``lambda``), with
+    ``-2``, ``-3``… when another law has that name."""
     if isinstance(law, str):
         return law
     if callable(law):
         if law in _FUNCTION_LAWS:
             return _FUNCTION_LAWS[law]
-        name = getattr(law, "__name__", "python-law").lower().replace("_", "-").strip("-") or "python-law"
-        return register_law(name, law)
+        raw = getattr(law, "__name__", "")
+        base = "".join(c if c.isascii() and c.isalnum() else "-" for c in raw.lower()).strip("-")
+        base = "-".join(x for x in base.split("-") if x)
+        if not base or not base[0].isalpha():
+            base = "python-law"
+        taken = set(laws())
+        name, i = base, 1
+        while name in taken:
+            i += 1
+            name = f"{base}-{i}"
+        name = _rsf.register_py_law(name, law, name, [], candidate=False)
+        _FUNCTION_LAWS[law] = name
+        return name
     raise TypeError(f"law must be a name or a function theta_rate(v, theta, dc, b, stress_rate), not {law!r}")
 
 
@@ -180,7 +194,12 @@ def _to_spec(setup: Setup) -> dict:
     states = []
     for s in m.states:
         law = s.law if isinstance(s.law, str) else "aging"  # placeholder for a Python law
-        states.append(_fields(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None, **(s.params or {})))
+        fields = _fields(law=law, b=s.b, dc=s.dc, vc=s.vc, c=s.c, alpha=s.alpha or None)
+        for k, v in (s.params or {}).items():
+            if k in fields:
+                raise ValueError(f"state parameter `{k}` given twice (as a field and in params)")
+            fields[k] = v
+        states.append(fields)
     segments = []
     for seg in p.segments:
         v, spec = (seg["v"], {k: x for k, x in seg.items() if k != "v"}) if isinstance(seg, Mapping) else seg
@@ -206,7 +225,9 @@ def load_protocol(path: Union[str, os.PathLike]) -> Setup:
     base = os.path.dirname(os.path.abspath(path))
     raw = json.loads(_rsf.protocol_json(text, base, path))
     rm = raw["model"]
-    states = [State(law=s["law"], b=s["b"], dc=s["dc"], vc=s.get("vc"), c=s.get("c"), alpha=s.get("alpha", 0.0))
+    own = lambda s: {k: v for k, v in s.items() if k not in ("law", "b", "dc", "vc", "c", "alpha")} or None
+    states = [State(law=s["law"], b=s["b"], dc=s["dc"], vc=s.get("vc"), c=s.get("c"), alpha=s.get("alpha", 0.0),
+                    params=own(s))
               for s in rm.get("state", [])]
     model = Model(mu0=rm["mu0"], v0=rm["v0"], a=rm["a"], stiffness=rm["stiffness"], states=states,
                   eta=rm.get("eta", 0.0), form=rm.get("form", "classic"), normal_stress=rm.get("normal_stress"))

@@ -15,6 +15,7 @@ def register_law(
     theta_rate: ThetaRate,
     parameters: Optional[Mapping[str, Mapping[str, Any]]] = ...,
     words: Optional[str] = ...,
+    candidate: bool = ...,
 ) -> str: ...
 def laws() -> list[str]: ...
 
