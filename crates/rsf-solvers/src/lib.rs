@@ -52,6 +52,7 @@ mod rodas4;
 mod rodas5p;
 mod rosenbrock;
 mod route;
+mod run_away;
 mod solution;
 mod solve;
 mod tableau;
@@ -65,9 +66,10 @@ pub use large::{Flow, LargeSystem, LargeTsit5};
 pub use ode::{Integrated, IntegrationError, Integrator, OdeSystem, StepStats, Tolerances};
 pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;
+pub use run_away::RunAway;
 pub use solution::Solution;
 pub use solve::{
-    MAX_SLIP_RATE, MAX_STATES, OutputTimes, Problem, RunAway, SolveError, drive, output_times, solve, solve_friction,
+    MAX_SLIP_RATE, MAX_STATES, OutputTimes, Problem, SolveError, drive, output_times, solve, solve_friction,
 };
 pub use tsit5::Tsit5;
 pub use vern6::Vern6;
