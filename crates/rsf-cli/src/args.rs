@@ -4,7 +4,6 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use rsf_fit::data::{DispUnit, DuplicateTimes, TimeUnit};
-use rsf_fit::diagnose::Baseline;
 use rsf_fit::fit::{AlphaFit, LoadingMode, NormalStressMode, Weighting};
 use std::path::PathBuf;
 
@@ -211,9 +210,9 @@ pub(crate) struct DiagnosisArgs {
     /// cause.
     #[arg(long, default_value_t = rsf_fit::diagnose::STIFFNESS_UNCERTAINTY)]
     pub(crate) stiffness_uncertainty: f64,
-    /// Baseline evolution law: slip or aging.
-    #[arg(long, default_value = "slip", value_parser = word::<Baseline>)]
-    pub(crate) baseline: Baseline,
+    /// Baseline evolution law: any law `rsf laws` lists (slip, aging, a law file's law…).
+    #[arg(long, default_value = "slip")]
+    pub(crate) baseline: String,
     /// Forward-model loading: record or protocol.
     #[arg(long, default_value = "protocol", value_parser = word::<LoadingMode>)]
     pub(crate) loading: LoadingMode,
@@ -347,9 +346,9 @@ pub(crate) struct BatchArgs {
     /// registered by --law-file (default slip).
     #[arg(long)]
     pub(crate) law: Option<String>,
-    /// Baseline law of the diagnosis: slip or aging (default slip).
-    #[arg(long, value_parser = word::<Baseline>)]
-    pub(crate) baseline: Option<Baseline>,
+    /// Baseline law of the diagnosis: any law `rsf laws` lists (default slip).
+    #[arg(long)]
+    pub(crate) baseline: Option<String>,
     /// Forward-model loading: record or protocol (default: record for --fit, protocol for
     /// --diagnose).
     #[arg(long, value_parser = word::<LoadingMode>)]

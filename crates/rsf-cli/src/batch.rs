@@ -35,7 +35,7 @@ fn defaults(a: &BatchArgs) -> Result<RecordOptions> {
         t_min: None,
         t_max: None,
         law: a.law.as_deref().map(str::parse).transpose().map_err(anyhow::Error::msg)?,
-        baseline: a.baseline,
+        baseline: a.baseline.as_deref().map(str::parse).transpose().map_err(anyhow::Error::msg)?,
         loading: a.loading,
         fit_stiffness: a.fit_stiffness.then_some(true),
         fit_slip_trend: a.fit_slip_trend.then_some(true),

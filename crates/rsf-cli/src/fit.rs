@@ -281,7 +281,8 @@ pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::D
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }
-    let mut fo = FitOptions::new(vec![a.baseline.law().with_starting_values()], a.stiffness);
+    let baseline: rsf_fit::diagnose::Baseline = a.baseline.parse().map_err(anyhow::Error::msg)?;
+    let mut fo = FitOptions::new(vec![baseline.law().map_err(anyhow::Error::msg)?], a.stiffness);
     fo.loading = a.loading;
     fo.normal_stress = a.read.normal_stress_mode;
     if let Some(g) = a.wall_clock_guard {

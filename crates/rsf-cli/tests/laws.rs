@@ -91,3 +91,27 @@ fn a_manifest_names_a_law_from_a_law_file() {
     let o = rsf(&["batch", manifest.to_str().unwrap(), "--out", dir.path().join("o2").to_str().unwrap(), "--fit"]);
     assert!(!o.status.success() || text(&o).contains("unknown law"), "{}", text(&o));
 }
+
+/// `rsf diagnose --baseline` takes any registered law (issue 39; on the main before it,
+/// "power-aging" was refused as a baseline: only slip or aging): with the truth's own law as
+/// the baseline, nothing is missing from the model, and the diagnosis says so.
+#[test]
+fn a_law_files_law_is_a_baseline() {
+    let law = path("examples/laws/power_aging.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("d.json");
+    let rec = path("tests/data/outside/power_aging.csv");
+    let args = ["diagnose", &rec, "--stiffness", "0.02", "--baseline", "power-aging", "--json", json.to_str().unwrap()];
+    let o = rsf(&args);
+    assert!(!o.status.success(), "without the law file the name is unknown");
+    assert!(text(&o).contains("power-aging"), "{}", text(&o));
+    let mut with_file = vec!["--law-file", law.as_str()];
+    with_file.extend(args);
+    let o = rsf(&with_file);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["baseline"]["params"]["laws"][0], "power-aging", "{}", v["baseline"]);
+    let n = v["baseline"]["params"]["law_params"]["n1"].as_f64().unwrap();
+    assert!((n - 1.5).abs() < 0.01, "n = {n}");
+    assert_eq!(v["cause"], "none", "{}", v["reason"]);
+}

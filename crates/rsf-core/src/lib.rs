@@ -61,6 +61,6 @@ pub use law::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, NormalStressRecord, Piece, Segment, SegmentEnd, normal_stress_varies};
 pub use model::{Model, ModelError, StateVariable};
 pub use system::{
-    DynLaws, LawDispatch, LawParameter, N_GLOBAL, PER_STATE, SameLaw, SpringSlider, law_parameters, n_params,
-    param_index, state_offset,
+    DynLaws, LawDispatch, LawParameter, N_GLOBAL, PER_STATE, SameLaw, SpringSlider, extra_law_parameters,
+    law_parameters, n_params, n_params_of, param_index, state_offset,
 };

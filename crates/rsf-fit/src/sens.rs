@@ -15,7 +15,7 @@
 //! times.
 
 use nalgebra::{SMatrix, SVector};
-use rsf_core::{LawParameter, N_GLOBAL, PER_STATE, SpringSlider, n_params};
+use rsf_core::{LawParameter, N_GLOBAL, PER_STATE, SpringSlider, extra_law_parameters, n_params, n_params_of};
 use rsf_solvers::{AutoDopri5, Dopri5, OdeSystem, Problem, SolveError, StepStats, Tolerances, drive};
 
 /// Friction and its parameter derivatives at the output times.
@@ -36,15 +36,19 @@ pub struct SensSolution {
 /// Largest number of state variables for which sensitivities are compiled.
 pub const MAX_SENS_STATES: usize = 8;
 
-/// The augmented system over the `P` carried parameters `cols` (columns of the full layout of
-/// `PF` = [`n_params`] entries): the wanted ones whose sensitivity is not identically zero
-/// ([`carried`]). Every carried column costs a D-vector of equations and enters the error norm.
+/// The augmented system over the `P` carried parameters `cols` (columns of the whole layout
+/// of [`n_params_of`] entries, whose fixed block has `PF` = [`n_params`]): the wanted ones
+/// whose sensitivity is not identically zero ([`carried`]). Every carried column costs a
+/// D-vector of equations and enters the error norm.
 struct SensOde<'a, const D: usize, const P: usize, const PF: usize, const DA: usize> {
     sys: SpringSlider<'a>,
     ln_v_max: f64,
     cols: [usize; P],
     /// The laws' own parameters of the D − 2 states (the first entries).
     law_parameters: [LawParameter; D],
+    /// The laws' further own parameters, columns `PF..` of the layout
+    /// ([`extra_law_parameters`]).
+    extra: Vec<(usize, &'static str)>,
 }
 
 impl<const D: usize, const P: usize, const PF: usize, const DA: usize> SensOde<'_, D, P, PF, DA> {
@@ -60,7 +64,20 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> SensOde<'
             out.fill(f64::NAN); // checked before integration; NaN rejects the step if it ever happens
             return (out, j);
         }
-        let fp = SMatrix::<f64, D, P>::from_fn(|r, c| fp_full[(r, self.cols[c])]);
+        let mut fp = SMatrix::<f64, D, P>::zeros();
+        for (c, &col) in self.cols.iter().enumerate() {
+            if col < PF {
+                fp.set_column(c, &fp_full.column(col));
+            } else {
+                let (i, name) = self.extra[col - PF];
+                let mut buf = [0.0; D];
+                if self.sys.extra_parameter_column(t, y, i, name, &mut buf).is_err() {
+                    out.fill(f64::NAN);
+                    return (out, j);
+                }
+                fp.set_column(c, &SVector::<f64, D>::from(buf));
+            }
+        }
         out.as_mut_slice()[..D].copy_from_slice(&dy);
         let s = SMatrix::<f64, D, P>::from_column_slice(&ya.as_slice()[D..]);
         let ds = j * s + fp;
@@ -140,8 +157,8 @@ impl<const D: usize, const P: usize, const PF: usize, const DA: usize> OdeSystem
 /// and Dc only (μ0 moves no state), an extension one or two more.
 fn carried_sizes(n: usize) -> &'static [usize] {
     match n {
-        1 => &[3, 4, 5, 7, 8],
-        2 => &[5, 6, 7, 10, 12],
+        1 => &[3, 4, 5, 7, 8, 12],
+        2 => &[5, 6, 7, 10, 12, 16],
         3 => &[13, 16],
         4 => &[16, 20],
         5 => &[19, 24],
@@ -152,23 +169,28 @@ fn carried_sizes(n: usize) -> &'static [usize] {
 }
 
 /// Whether parameter `j`'s S column is identically zero for `model`: μ0 and the α at constant
-/// normal stress (they move no state), the law-parameter slot of a law without one.
+/// normal stress (they move no state), the law-parameter slot of a law without one. A law's
+/// further own parameters (after the fixed block) always move its state.
 fn zero_column(model: &rsf_core::Model, alpha: bool, j: usize) -> bool {
     if j < N_GLOBAL {
         return j == 0 && !alpha;
+    }
+    if j >= n_params(model.n_states()) {
+        return false;
     }
     let (i, k) = ((j - N_GLOBAL) / PER_STATE, (j - N_GLOBAL) % PER_STATE);
     (k == 3 && !alpha) || (k == 2 && model.states[i].law.parameters().is_empty())
 }
 
 /// The S columns a solve carries: the wanted ones that are not identically zero, padded up
-/// to a compiled size by further columns in layout order (α last).
-fn carried(model: &rsf_core::Model, alpha: bool, wanted: &[bool]) -> Vec<usize> {
+/// to a compiled size by further columns of the fixed block in layout order (α last); `None`
+/// when more are wanted than the largest compiled size.
+fn carried(model: &rsf_core::Model, alpha: bool, wanted: &[bool]) -> Option<Vec<usize>> {
     let pf = n_params(model.n_states());
     let is_alpha = |j: usize| j >= N_GLOBAL && (j - N_GLOBAL) % PER_STATE == 3;
-    let mut cols: Vec<usize> = (0..pf).filter(|&j| wanted[j] && !zero_column(model, alpha, j)).collect();
+    let mut cols: Vec<usize> = (0..wanted.len()).filter(|&j| wanted[j] && !zero_column(model, alpha, j)).collect();
     let sizes = carried_sizes(model.n_states());
-    let target = sizes.iter().copied().find(|&s| s >= cols.len()).unwrap_or(pf);
+    let target = sizes.iter().copied().find(|&s| s >= cols.len())?;
     let pad: Vec<usize> = (0..pf)
         .filter(|&j| !is_alpha(j))
         .chain((0..pf).filter(|&j| is_alpha(j)))
@@ -176,7 +198,7 @@ fn carried(model: &rsf_core::Model, alpha: bool, wanted: &[bool]) -> Vec<usize> 
         .collect();
     cols.extend(pad.into_iter().take(target - cols.len()));
     cols.sort_unstable();
-    cols
+    (cols.len() == target).then_some(cols)
 }
 
 /// Solves `problem` with [`AutoDopri5`] (Dopri5 above [`MAX_IMPLICIT_SENS_DIM`]) at `rtol` and
@@ -199,10 +221,18 @@ pub fn solve_with_sensitivities(
             "{n} state variables: parameter sensitivities are compiled for 1 to {MAX_SENS_STATES}"
         )));
     }
-    if wanted.len() != n_params(n) {
-        return Err(SolveError::Input(format!("{} wanted columns for {} parameters", wanted.len(), n_params(n))));
+    let total = n_params_of(&problem.model);
+    if wanted.len() != total {
+        return Err(SolveError::Input(format!("{} wanted columns for {total} parameters", wanted.len())));
     }
-    let cols = carried(&problem.model, alpha, wanted);
+    let Some(cols) = carried(&problem.model, alpha, wanted) else {
+        let most = carried_sizes(n).last().copied().unwrap_or(0);
+        return Err(SolveError::Input(format!(
+            "sensitivities to {} parameters wanted with {n} state variable(s): at most {most} are compiled; \
+             fix some of them",
+            wanted.iter().filter(|&&w| w).count()
+        )));
+    };
     let a = (problem, &pieces[..], rtol, atol, max_steps, &cols[..]);
     // <D, carried P, full P, D (1 + P)>
     match (n, cols.len()) {
@@ -210,12 +240,14 @@ pub fn solve_with_sensitivities(
         (1, 4) => run::<3, 4, 8, 15>(a),
         (1, 5) => run::<3, 5, 8, 18>(a),
         (1, 7) => run::<3, 7, 8, 24>(a),
-        (1, _) => run::<3, 8, 8, 27>(a),
+        (1, 8) => run::<3, 8, 8, 27>(a),
+        (1, _) => run::<3, 12, 8, 39>(a),
         (2, 5) => run::<4, 5, 12, 24>(a),
         (2, 6) => run::<4, 6, 12, 28>(a),
         (2, 7) => run::<4, 7, 12, 32>(a),
         (2, 10) => run::<4, 10, 12, 44>(a),
-        (2, _) => run::<4, 12, 12, 52>(a),
+        (2, 12) => run::<4, 12, 12, 52>(a),
+        (2, _) => run::<4, 16, 12, 68>(a),
         (3, 13) => run::<5, 13, 16, 70>(a),
         (3, _) => run::<5, 16, 16, 85>(a),
         (4, 16) => run::<6, 16, 20, 102>(a),
@@ -250,6 +282,9 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     debug_assert_eq!(DA, D * (1 + P));
     let model = &problem.model;
     debug_assert_eq!(PF, n_params(model.n_states()));
+    let extra = extra_law_parameters(model);
+    // the whole layout: the fixed block and the laws' further own parameters
+    let pt = PF + extra.len();
     debug_assert_eq!(carried.len(), P);
     let mut cols = [0usize; P];
     cols.copy_from_slice(carried);
@@ -271,7 +306,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     probe.parameter_jacobian(pieces[0].t0, &y0, &mut fp).map_err(SolveError::Input)?;
     let mut ya = SVector::<f64, DA>::zeros();
     ya.as_mut_slice()[..D].copy_from_slice(&y0);
-    let mut s0 = vec![0.0; D * PF];
+    let mut s0 = vec![0.0; D * pt];
     SpringSlider::steady_state_sensitivity(model, problem.v_init, &mut s0).map_err(SolveError::Input)?;
     for (c, &j) in cols.iter().enumerate() {
         ya.as_mut_slice()[D + c * D..D + (c + 1) * D].copy_from_slice(&s0[j * D..(j + 1) * D]);
@@ -280,12 +315,12 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
     let mut sol = SensSolution {
         time: Vec::with_capacity(rows),
         mu: Vec::with_capacity(rows),
-        dmu: Vec::with_capacity(rows * PF),
-        n_params: PF,
+        dmu: Vec::with_capacity(rows * pt),
+        n_params: pt,
         stats: StepStats::default(),
     };
     // the S column of each full-layout parameter: carried, identically zero, or not wanted
-    let mut col_of = [Column::Missing; PF];
+    let mut col_of = vec![Column::Missing; pt];
     for (j, c) in col_of.iter_mut().enumerate() {
         if zero_column(model, alpha, j) {
             *c = Column::Zero;
@@ -304,7 +339,7 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
         sol.time.push(t);
         sol.mu.push(friction.stress(y));
         let _ = friction.stress_gradients(y, &mut gy, &mut gp);
-        for j in 0..PF {
+        for j in 0..pt {
             let through_y = match col_of[j] {
                 Column::Carried(c) => {
                     let col = &ya.as_slice()[D + c * D..D + (c + 1) * D];
@@ -313,12 +348,13 @@ fn run<const D: usize, const P: usize, const PF: usize, const DA: usize>(
                 Column::Zero => 0.0,
                 Column::Missing => f64::NAN,
             };
-            sol.dmu.push(gp[j] + through_y);
+            // μ depends on a law's further own parameters through the state alone
+            sol.dmu.push(gp.get(j).copied().unwrap_or(0.0) + through_y);
         }
     };
     let mut law_parameters = [None; D];
     law_parameters[..D - 2].copy_from_slice(&rsf_core::law_parameters(model));
-    let make = |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols, law_parameters };
+    let make = |sys| SensOde::<D, P, PF, DA> { sys, ln_v_max, cols, law_parameters, extra: extra.clone() };
     let msr = problem.max_slip_rate;
     if DA <= MAX_IMPLICIT_SENS_DIM {
         let alg = AutoDopri5 { max_steps, ..AutoDopri5::new(rtol, atol) };

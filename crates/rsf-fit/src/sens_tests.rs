@@ -5,7 +5,7 @@ use rsf_core::{Loading, Model, Segment, StateVariable};
 use rsf_laws::{Aging, KatoTullis, Slip};
 
 fn every(m: &Model) -> Vec<bool> {
-    vec![true; n_params(m.n_states())]
+    vec![true; n_params_of(m)]
 }
 fn params(m: &Model) -> Vec<f64> {
     m.parameter_vector()
@@ -72,6 +72,48 @@ fn sensitivities_match_finite_differences() {
     }
 }
 
+/// A law with two own parameters (a text law: power-law aging blended with the Slip law by
+/// w), after a Kato–Tullis state with one: the layout holds the second parameter after the
+/// fixed block, and every column, that one included, matches central differences of tight
+/// solves, with the steady start's own sensitivity.
+#[test]
+fn a_laws_further_parameters_are_exact_too() {
+    const BLEND: &str = "name = \"blend-sens\"\n\
+        theta_rate = \"w*(1 - omega^n) - (1 - w)*omega*ln(omega)\"\n\
+        [[parameter]]\nname = \"n\"\nrange = [0.2, 5.0]\nstart = 1.5\n\
+        [[parameter]]\nname = \"w\"\nrange = [0.0, 1.0]\nstart = 0.4\n";
+    let law = rsf_laws::text_law::parse(BLEND, "blend.toml").unwrap().with_starting_values().unwrap();
+    let base = Model::new(0.6, 1.0, 0.011, 0.02)
+        .with_state(StateVariable::new(rsf_laws::KatoTullis { vc: 0.05 }, 0.006, 3.0))
+        .with_state(StateVariable::from_shared(law, 0.008, 20.0));
+    assert_eq!(rsf_core::extra_law_parameters(&base), vec![(1, "w")]);
+    assert_eq!(n_params_of(&base), n_params(2) + 1);
+    assert_eq!(rsf_core::param_index(&base, "w2"), Some(n_params(2)));
+    assert_eq!(rsf_core::param_index(&base, "n2"), Some(rsf_core::state_offset(1) + 2));
+    let p = base.parameter_vector();
+    assert_eq!(p[n_params(2)], 0.4);
+    assert_eq!(base.with_parameter_vector(&p).unwrap().parameter_vector(), p);
+    assert!(base.with_parameter_vector(&p[..n_params(2)]).is_err(), "a short vector is refused");
+    let segs = vec![
+        Segment::for_duration(1.0, 300.0),
+        Segment::for_duration(10.0, 5.0),
+        Segment::for_duration(0.1, 60.0),
+        Segment::for_duration(0.0, 100.0),
+        Segment::for_duration(1.0, 20.0),
+    ];
+    // v_init 0.5 µm/s: the start is steady at a rate other than v0, so ∂θ0/∂w is not zero
+    let mk = |m: Model| Problem::new(m, Loading::Segments(segs.clone()), 0.5, 1.0);
+    let s =
+        solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS, &every(&base)).unwrap();
+    assert_eq!(s.n_params, n_params(2) + 1);
+    let all: Vec<usize> = (0..s.n_params).collect();
+    let errs = worst_errors(&base, &mk, &s, &all);
+    assert!(errs.iter().any(|&(j, _)| j == n_params(2)), "w's column is checked");
+    for (j, worst) in errs {
+        assert!(worst < 2e-4, "parameter {j}: max rel error {worst:e}");
+    }
+}
+
 /// Only the wanted columns are carried (a baseline's a, b, Dc; a two-state fit's five): they
 /// still match central differences, μ0's is exact without a column (it moves no state),
 /// and a column neither wanted nor identically zero comes out NaN, never a silent zero.
@@ -98,7 +140,7 @@ fn wanted_columns_alone_are_carried_and_exact() {
             wanted[rsf_core::state_offset(i)] = true;
             wanted[rsf_core::state_offset(i) + 1] = true;
         }
-        assert_eq!(carried(&base, false, &wanted).len(), 1 + 2 * n, "a and (b, Dc) per state");
+        assert_eq!(carried(&base, false, &wanted).unwrap().len(), 1 + 2 * n, "a and (b, Dc) per state");
         let s = solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS, &wanted).unwrap();
         let js: Vec<usize> = (0..np).filter(|&j| wanted[j]).collect();
         for (j, worst) in worst_errors(&base, &mk, &s, &js) {

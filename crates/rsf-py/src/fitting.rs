@@ -250,7 +250,7 @@ pub(crate) fn diagnose_options(
     threads: usize,
 ) -> PyResult<(DiagnoseOptions, Arc<AtomicBool>)> {
     let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
-    let mut fo = fit_options(baseline.law().name(), stiffness, loading, false)?;
+    let mut fo = fit_options(baseline.name(), stiffness, loading, false)?;
     fo.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     let cancel = Arc::new(AtomicBool::new(false));
     fo.cancel = Some(cancel.clone());

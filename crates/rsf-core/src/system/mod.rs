@@ -7,7 +7,10 @@ mod tests;
 
 pub use dispatch::{DynLaws, LawDispatch, SameLaw};
 use sensitivity::ParamJacobian;
-pub use sensitivity::{LawParameter, N_GLOBAL, PER_STATE, law_parameters, n_params, param_index, state_offset};
+pub use sensitivity::{
+    LawParameter, N_GLOBAL, PER_STATE, extra_law_parameters, law_parameters, n_params, n_params_of, param_index,
+    state_offset,
+};
 
 use crate::law::{LnArgs, StateArgs};
 use crate::loading::Piece;

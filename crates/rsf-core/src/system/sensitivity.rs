@@ -10,12 +10,32 @@ pub const N_GLOBAL: usize = 4;
 /// Parameters per state variable in the layout of [`n_params`]: `b, dc, q, alpha`.
 pub const PER_STATE: usize = 4;
 
-/// Number of model parameters for sensitivities with `n` state variables: the layout is
+/// Number of entries of the fixed block of the parameter layout with `n` state variables:
 /// `[mu0, a, k, g, b_1, dc_1, q_1, alpha_1, …, b_n, dc_n, q_n, alpha_n]`, where g is the slip
 /// trend, `q_i` the law's first own parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws
-/// without one) and `alpha_i` the Linker–Dieterich normal-stress coupling.
+/// without one) and `alpha_i` the Linker–Dieterich normal-stress coupling. A law with more than
+/// one own parameter has the others after this block ([`extra_law_parameters`]); the whole
+/// layout has [`n_params_of`] entries.
 pub fn n_params(n_states: usize) -> usize {
     N_GLOBAL + PER_STATE * n_states
+}
+
+/// The laws' own parameters past each law's first, in layout order: they follow the fixed
+/// block of [`n_params`], state by state and in each law's own order, as `(state, name)`
+/// (0-based state).
+pub fn extra_law_parameters(model: &Model) -> Vec<(usize, &'static str)> {
+    model
+        .states
+        .iter()
+        .enumerate()
+        .flat_map(|(i, s)| s.law.parameters().into_iter().skip(1).map(move |(name, _)| (i, name)))
+        .collect()
+}
+
+/// Number of entries of the whole parameter layout of `model`: the fixed block of
+/// [`n_params`] and the [`extra_law_parameters`] after it.
+pub fn n_params_of(model: &Model) -> usize {
+    n_params(model.states.len()) + extra_law_parameters(model).len()
 }
 
 /// Index of `b_i` (0-based state `i`) in the layout of [`n_params`]; `dc_i`, `q_i` and
@@ -25,20 +45,24 @@ pub fn state_offset(i: usize) -> usize {
 }
 
 impl Model {
-    /// The parameters in the layout of [`n_params`] (an unused law-parameter slot is 0).
+    /// The parameters in the layout of [`n_params_of`] (an unused law-parameter slot is 0).
     pub fn parameter_vector(&self) -> Vec<f64> {
         let mut p = vec![self.mu0, self.a, self.stiffness, self.slip_trend];
         for s in &self.states {
             p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0), s.alpha]);
         }
+        for s in &self.states {
+            p.extend(s.law.parameters().iter().skip(1).map(|x| x.1));
+        }
         p
     }
 
-    /// A copy with the parameters `p` (layout of [`n_params`]); each law's own parameter is set
-    /// by name. The error names a law that rejects its value.
+    /// A copy with the parameters `p` (layout of [`n_params_of`]); each law's own parameter is
+    /// set by name. The error names a law that rejects its value.
     pub fn with_parameter_vector(&self, p: &[f64]) -> Result<Model, String> {
-        if p.len() < n_params(self.states.len()) {
-            return Err(format!("{} parameters for {} expected", p.len(), n_params(self.states.len())));
+        let want = n_params_of(self);
+        if p.len() != want {
+            return Err(format!("{} parameters given for {want} expected", p.len()));
         }
         let mut m = self.clone();
         m.mu0 = p[0];
@@ -53,13 +77,18 @@ impl Model {
                 s.law = s.law.with_parameter(name, p[state_offset(i) + 2])?;
             }
         }
+        let extra = extra_law_parameters(self);
+        for (k, (i, name)) in extra.into_iter().enumerate() {
+            let s = &mut m.states[i];
+            s.law = s.law.with_parameter(name, p[n_params(self.states.len()) + k])?;
+        }
         Ok(m)
     }
 }
 
-/// Index of a named parameter in the layout of [`n_params`]: `mu0`, `a`, `k`, `b1`, `dc1`,
-/// `q1` (or the law's own name, e.g. `vc1`), `alpha1`, `b2`, …; `b`/`dc`/`alpha` alone mean
-/// state 1.
+/// Index of a named parameter in the layout of [`n_params_of`]: `mu0`, `a`, `k`, `b1`, `dc1`,
+/// `q1` (or the law's own first parameter's name, e.g. `vc1`), `alpha1`, `b2`, …, and a law's
+/// further parameters by name (`w1`); `b`/`dc`/`alpha` alone mean state 1.
 pub fn param_index(model: &Model, name: &str) -> Option<usize> {
     match name {
         "mu0" => return Some(0),
@@ -82,7 +111,13 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
         "q" if !model.states[i - 1].law.parameters().is_empty() => Some(off + 2),
         other => {
             let own = model.states[i - 1].law.parameters();
-            if own.first().map(|p| p.0) == Some(other) { Some(off + 2) } else { None }
+            if own.first().map(|p| p.0) == Some(other) {
+                return Some(off + 2);
+            }
+            extra_law_parameters(model)
+                .iter()
+                .position(|&(s, nm)| s == i - 1 && nm == other)
+                .map(|k| n_params(model.states.len()) + k)
         }
     }
 }
@@ -171,13 +206,23 @@ impl SpringSlider<'_> {
         Ok(())
     }
 
-    /// `∂y0/∂p` of the steady-state start at slip rate `v` (column-major `(N + 2) × P`):
-    /// only ln θ_i depends on the parameters (on Dc_i and the law's own parameter), by central
+    /// `∂y0/∂p` of the steady-state start at slip rate `v` (column-major `(N + 2) × P`, P the
+    /// fixed block of [`n_params`] or the whole layout of [`n_params_of`]): only ln θ_i
+    /// depends on the parameters (on Dc_i and the law's own parameters), by central
     /// differences of the law's steady state (exact for laws with θ_ss ∝ Dc).
     pub fn steady_state_sensitivity(model: &Model, v: f64, s0: &mut [f64]) -> Result<(), String> {
         let n = model.states.len();
         let d = n + 2;
         s0.iter_mut().for_each(|x| *x = 0.0);
+        if s0.len() == d * n_params_of(model) {
+            for (k, (i, name)) in extra_law_parameters(model).into_iter().enumerate() {
+                let s = &model.states[i];
+                let q = s.law.parameters().iter().find(|p| p.0 == name).map_or(0.0, |p| p.1);
+                let h = 1e-6 * q.abs().max(1e-12);
+                let th = |qq: f64| s.law.with_parameter(name, qq)?.steady_state_theta(v, s.dc).map(f64::ln);
+                s0[(n_params(n) + k) * d + 1 + i] = (th(q + h)? - th(q - h)?) / (2.0 * h);
+            }
+        }
         for (i, s) in model.states.iter().enumerate() {
             let off = state_offset(i);
             let lnth = |dc: f64| s.law.steady_state_theta(v, dc).map(f64::ln);
@@ -189,6 +234,46 @@ impl SpringSlider<'_> {
                 s0[(off + 2) * d + 1 + i] = (th(q + h)? - th(q - h)?) / (2.0 * h);
             }
         }
+        Ok(())
+    }
+
+    /// `∂f/∂q` at time `t` of one of the laws' own parameters past the first (`name` of state
+    /// `i`, 0-based; [`extra_law_parameters`]) into `col` (length N + 2): the parameter enters
+    /// the rate of state i alone, so only the rows ln V and ln θ_i are non-zero. Exact where the
+    /// law gives [`parameter_derivative`](crate::StateLaw::parameter_derivative), else a central
+    /// difference of its rate (relative step 1e-6), as for the first own parameter.
+    pub fn extra_parameter_column(
+        &self,
+        t: f64,
+        y: &[f64],
+        i: usize,
+        name: &str,
+        col: &mut [f64],
+    ) -> Result<(), String> {
+        self.check_sensitivity_support()?;
+        let m = self.model;
+        col.iter_mut().for_each(|c| *c = 0.0);
+        let st = m.states.get(i).ok_or_else(|| format!("no state {}", i + 1))?;
+        let v = y[0].exp();
+        let theta = y[1 + i].exp();
+        let (s, _) = self.sigma(t);
+        let tau_rate = m.stiffness * (self.v_lp - v) / s;
+        let args = self.args(i, v, theta, tau_rate, s);
+        let dg_dq = match st.law.parameter_derivative(name, &args) {
+            Some(d) => d,
+            None => {
+                let q =
+                    st.law.parameters().iter().find(|p| p.0 == name).map(|p| p.1).ok_or_else(|| {
+                        format!("law `{}` of state {} has no parameter `{name}`", st.law.name(), i + 1)
+                    })?;
+                let h = 1e-6 * q.abs().max(1e-12);
+                let rate = |qq: f64| st.law.rate_with_parameter(name, qq, &args);
+                (rate(q + h)? - rate(q - h)?) / (2.0 * h)
+            }
+        };
+        let dz_dq = dg_dq / theta;
+        col[1 + i] = dz_dq;
+        col[0] = -st.b * dz_dq / (m.a + m.eta * v);
         Ok(())
     }
 }

@@ -36,7 +36,7 @@ pub struct RecordOptions {
     pub t_max: Option<f64>,
     /// Evolution law of the fit (`rsf fit --law`).
     pub law: Option<LawName>,
-    /// Baseline law of the diagnosis: `slip` or `aging`.
+    /// Baseline law of the diagnosis: any registered law (`slip` by default).
     pub baseline: Option<Baseline>,
     /// Forward-model loading: `record` or `protocol` (default: `record` for a fit, `protocol`
     /// for a diagnosis, as the single-record commands).

@@ -4,7 +4,7 @@
 use super::manifest::{Entry, RecordOptions};
 use super::row::{Param, Row, Status};
 use crate::data::{DispUnit, InvalidRows, ReadOptions, Record, TimeUnit, read_record};
-use crate::diagnose::{Baseline, DiagnoseOptions, Diagnosis, diagnose};
+use crate::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
 use crate::fit::{FitOptions, FitResult, LoadingMode, ParamName, fit, prepare};
 use crate::segment::{Segment, SegmentKind, SegmentOptions, detect};
 use serde::{Deserialize, Serialize};
@@ -97,7 +97,7 @@ fn fit_options(o: &RecordOptions) -> Result<FitOptions, String> {
 }
 
 fn diagnose_options(o: &RecordOptions, threads: usize) -> Result<DiagnoseOptions, String> {
-    let law = o.baseline.unwrap_or(Baseline::Slip).law().with_starting_values();
+    let law = o.baseline.clone().unwrap_or_default().law()?;
     let mut fo = FitOptions::new(vec![law], stiffness(o)?);
     fo.loading = o.loading.unwrap_or(LoadingMode::Protocol);
     Ok(DiagnoseOptions { threads, seed: o.seed.unwrap_or(1), ..DiagnoseOptions::new(fo) })

@@ -482,6 +482,9 @@ pub fn cause_variants(cause: Cause, o: &FitOptions, base_law: &str) -> Vec<(Stri
         tries.push((format!("a mixture: {base_law} and {other} states sharing Dc"), om));
         // the law library: each law for every state of the baseline (one, in a diagnosis)
         for law in library_laws() {
+            if law.name() == base_law {
+                continue; // the baseline itself (a diagnosis of a library law as baseline)
+            }
             let start = library_start(law.builtin(), base_law);
             let Ok(l) = law.build(|p| {
                 start.iter().find(|s| s.0 == p).map(|s| s.1).or(law.parameter(p).map(|q| q.start_value(None)))

@@ -87,7 +87,8 @@ impl Cause {
                 o.laws.push(l);
             }
             Self::CutoffVelocity => {
-                if o.laws[0].name() != base_law || o.laws.len() != 1 {
+                // a Kato–Tullis baseline has its cut-off already
+                if o.laws[0].name() != base_law || o.laws.len() != 1 || base_law == Law::KatoTullis.name() {
                     return None;
                 }
                 o.laws[0] = builtin(Law::KatoTullis);
@@ -290,24 +291,61 @@ pub fn effect_of(causes: &[Cause], f: &FitResult) -> Effect {
     effect
 }
 
-/// The baseline law of a diagnosis: one of the two classic laws (the candidates try the other).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Baseline {
-    /// Ruina's Slip law (the default: it fits velocity steps of bare rock best).
-    Slip,
-    /// Dieterich's Aging law.
-    Aging,
-}
-
-rsf_core::vocabulary!(Baseline, "baseline", { Slip => "slip", Aging => "aging" });
+/// The baseline law of a diagnosis: any law of the registry ([`rsf_laws::registry`]), by
+/// name; Ruina's Slip law by default (it fits velocity steps of bare rock best). The
+/// candidates try the other classic law (Aging for any baseline but Aging), the two-state
+/// forms, the cut-off and every other law of the registry.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Baseline(pub rsf_laws::registry::LawName);
 
 impl Baseline {
-    /// The law.
-    pub fn law(self) -> Law {
-        match self {
-            Baseline::Slip => Law::Slip,
-            Baseline::Aging => Law::Aging,
-        }
+    /// Ruina's Slip law.
+    pub fn slip() -> Self {
+        Self(Law::Slip.into())
+    }
+    /// Dieterich's Aging law.
+    pub fn aging() -> Self {
+        Self(Law::Aging.into())
+    }
+    /// The law's name.
+    pub fn name(&self) -> &str {
+        self.0.as_str()
+    }
+    /// The law at its parameters' starts; the error says when the registry lost it (a law file
+    /// loaded again without it).
+    pub fn law(&self) -> Result<Arc<dyn rsf_core::DynStateLaw>, String> {
+        self.0.with_starting_values()
+    }
+}
+
+impl Default for Baseline {
+    fn default() -> Self {
+        Self::slip()
+    }
+}
+
+impl std::str::FromStr for Baseline {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        s.parse().map(Self).map_err(|e| format!("baseline: {e}"))
+    }
+}
+
+impl std::fmt::Display for Baseline {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl serde::Serialize for Baseline {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Baseline {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        rsf_laws::registry::LawName::deserialize(d).map(Self)
     }
 }
 

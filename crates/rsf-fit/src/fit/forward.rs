@@ -4,7 +4,7 @@
 use super::params::within_bounds;
 use super::{FIT_MAX_STEPS, FitOptions, LoadingMode, ParamMap, Prepared};
 use crate::sens::solve_with_sensitivities;
-use rsf_core::{LoadRecord, Loading, Model, Segment, n_params};
+use rsf_core::{LoadRecord, Loading, Model, Segment};
 use rsf_solvers::{OutputTimes, Problem, SolveError};
 
 /// The model at θ: friction at the used samples, ∂friction/∂θ, and the integrator steps taken.
@@ -40,7 +40,7 @@ fn with_sensitivities(
     rtol: f64,
     seg_of: &dyn Fn(usize) -> usize,
 ) -> Result<Evaluated, SolveError> {
-    let np = n_params(map.n_states);
+    let np = map.np;
     let m = map.free.len();
     let dfull = map.jac(theta);
     // the sensitivities the free parameters reach (a fixed k, g or Vc costs nothing)
@@ -177,7 +177,7 @@ pub fn predict(
         peak_slip_rate[0] = s.slip_rate[0];
     }
     let mut mu = s.mu[extra..].to_vec();
-    let np = n_params(map.n_states);
+    let np = map.np;
     if last_seg > 0 && map.slots.len() > np {
         for x in &mut mu {
             *x += full[np + last_seg - 1];
@@ -198,7 +198,7 @@ pub fn model_curve(
     let full = map.full(theta);
     within_bounds(map, &full).map_err(SolveError::Input)?;
     let model = map.model(opts, &full, p.v_init).map_err(SolveError::Input)?;
-    let np = n_params(map.n_states);
+    let np = map.np;
     let problem = forward_problem(p, opts, model);
     let alg = rsf_solvers::AutoDopri5 { max_steps: FIT_MAX_STEPS, ..rsf_solvers::AutoDopri5::new(rtol, rtol * 1e-4) };
     let (mut mu, _) = rsf_solvers::solve_friction(&problem, &alg)?;
@@ -233,7 +233,7 @@ pub(super) fn model_at_samples(
         ..rsf_solvers::AutoDopri5::new(opts.rtol, opts.rtol * 1e-4)
     };
     let s = rsf_solvers::solve(&forward_problem(p, opts, model), &alg)?;
-    let np = n_params(map.n_states);
+    let np = map.np;
     let mut mu = s.mu;
     if map.slots.len() > np {
         for (r, &seg) in p.seg_of.iter().enumerate() {

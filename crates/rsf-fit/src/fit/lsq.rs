@@ -8,7 +8,7 @@ use super::{
     parameter_map,
 };
 use crate::lm::{self, Eval};
-use rsf_core::{n_params, state_offset};
+use rsf_core::state_offset;
 use rsf_solvers::SolveError;
 use std::cell::Cell;
 use std::collections::BTreeMap;
@@ -312,7 +312,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
     };
     let ll = sum_ln_w - 0.5 * n as f64 * ((2.0 * std::f64::consts::PI * ssr_w / n as f64).ln() + 1.0);
     let kf = (m + 1) as f64;
-    let np = n_params(map.n_states);
+    let np = map.np;
     let params = Params {
         mu0: full[0],
         v0: p.v_init,
@@ -322,14 +322,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
         k: full[2],
         g: full[3],
         laws: opts.laws.iter().map(|l| l.name()).collect(),
-        law_params: opts
-            .laws
-            .iter()
-            .enumerate()
-            .filter_map(|(i, l)| {
-                l.parameters().first().map(|(nm, _)| (format!("{nm}{}", i + 1), full[state_offset(i) + 2]))
-            })
-            .collect(),
+        law_params: map.law_parameter_values(opts, &full),
         mu0_offsets: full[np..].to_vec(),
         alpha: if p.normal_stress.is_some() || opts.alpha != AlphaFit::Fixed {
             (0..map.n_states).map(|i| full[state_offset(i) + 3]).collect()

@@ -220,6 +220,9 @@ pub(super) enum Slot {
 #[derive(Clone, Debug)]
 pub struct ParamMap {
     pub(super) n_states: usize,
+    /// Entries of the model's parameter layout ([`rsf_core::n_params_of`]): the fixed block
+    /// and the laws' further own parameters; the segments' friction offsets follow.
+    pub(super) np: usize,
     pub(super) names: Vec<String>,
     pub(super) slots: Vec<Slot>,
     pub(super) base: Vec<f64>,
@@ -235,8 +238,29 @@ fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
         let q = l.parameters().first().map(|p| p.0).unwrap_or("q");
         v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1), format!("alpha{}", i + 1)]);
     }
+    v.extend(extra_parameters(opts).iter().map(|(i, name)| format!("{name}{}", i + 1)));
     v.extend((0..n_off).map(|s| format!("mu0_seg{}", s + 2)));
     v
+}
+
+/// The laws' own parameters past each law's first, as laid out after the fixed block
+/// ([`rsf_core::extra_law_parameters`]): (0-based state, name).
+fn extra_parameters(opts: &FitOptions) -> Vec<(usize, &'static str)> {
+    opts.laws
+        .iter()
+        .enumerate()
+        .flat_map(|(i, l)| l.parameters().into_iter().skip(1).map(move |(name, _)| (i, name)))
+        .collect()
+}
+
+/// Where a law's own parameter starts: where the law was built (`with_starting_values`: the
+/// spec's start), except a velocity scale whose spec starts it at the record's slowest load
+/// point `vmin` (µm/s).
+fn own_start(law: &dyn rsf_core::DynStateLaw, name: &str, value: f64, vmin: f64) -> f64 {
+    match law_spec(law, name).map(|p| p.start) {
+        Some(rsf_laws::Start::SlowestLoadPointVelocity) if vmin.is_finite() => vmin,
+        Some(rsf_laws::Start::SlowestLoadPointVelocity | rsf_laws::Start::Value(_)) | None => value,
+    }
 }
 
 impl ParamMap {
@@ -300,7 +324,25 @@ impl ParamMap {
     pub(super) fn model(&self, opts: &FitOptions, full: &[f64], v0: f64) -> Result<Model, String> {
         let mut m = Model::new(0.0, v0, 1.0, 1.0);
         m.states = opts.laws.iter().map(|l| StateVariable::from_shared(l.clone(), 0.0, 1.0)).collect();
-        m.with_parameter_vector(&full[..n_params(self.n_states)])
+        m.with_parameter_vector(&full[..self.np])
+    }
+    /// Every law's own parameters by name (`vc1`, `n1`, `w2`) at the full vector `full`.
+    pub(super) fn law_parameter_values(
+        &self,
+        opts: &FitOptions,
+        full: &[f64],
+    ) -> std::collections::BTreeMap<String, f64> {
+        let mut out = std::collections::BTreeMap::new();
+        for (i, l) in opts.laws.iter().enumerate() {
+            if let Some((nm, _)) = l.parameters().first() {
+                out.insert(format!("{nm}{}", i + 1), full[state_offset(i) + 2]);
+            }
+        }
+        let np0 = n_params(self.n_states);
+        for (k, (i, name)) in extra_parameters(opts).into_iter().enumerate() {
+            out.insert(format!("{name}{}", i + 1), full[np0 + k]);
+        }
+        out
     }
 }
 
@@ -311,7 +353,8 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         return Err(FitError::Setup("at least one state variable is needed".into()));
     }
     let n_off = if opts.mu0_per_segment { p.segments.len().saturating_sub(1) } else { 0 };
-    let np = n_params(n);
+    let extra = extra_parameters(opts);
+    let np = n_params(n) + extra.len();
     let names = full_names(opts, n_off);
     let (mu0, a, b, dc) = initial_guess(p);
     let mut base = vec![0.0; np + n_off];
@@ -328,15 +371,17 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         // where the law was built (`with_starting_values`: the spec's start), except a
         // velocity scale whose spec starts it at the record's slowest load point
         base[off + 2] = match law.parameters().first() {
-            Some((name, v)) => match law_spec(law.as_ref(), name).map(|p| p.start) {
-                Some(rsf_laws::Start::SlowestLoadPointVelocity) if vmin.is_finite() => vmin,
-                Some(rsf_laws::Start::SlowestLoadPointVelocity | rsf_laws::Start::Value(_)) | None => *v,
-            },
+            Some((name, v)) => own_start(law.as_ref(), name, *v, vmin),
             None => 0.0,
         };
         // α starts inside its domain when fitted: at its bound α = 0 every LM step that
         // lowers it is rejected, and the other parameters would stall with it
         base[off + 3] = if opts.alpha == AlphaFit::Fixed { 0.0 } else { ALPHA_START };
+    }
+    for (k, &(i, name)) in extra.iter().enumerate() {
+        let law = &opts.laws[i];
+        let value = law.parameters().iter().find(|p| p.0 == name).map_or(0.0, |p| p.1);
+        base[n_params(n) + k] = own_start(law.as_ref(), name, value, vmin);
     }
     let mut slots: Vec<Slot> = vec![Slot::Fixed; np + n_off];
     let specs: Vec<ParamSpec> = names
@@ -369,6 +414,8 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
             slots[off + 3] = Slot::Derived { src: state_offset(0) + 3, sign: 1.0, c: 0.0 };
         }
     }
+    // every further own parameter of a law is fitted, as the first is
+    free_idx.extend(n_params(n)..np);
     free_idx.extend(np..np + n_off);
     // initial overrides
     let tmp_model = {
@@ -434,7 +481,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         slots[i] = Slot::Free { k, log };
     }
     // derived values follow their sources at the start
-    let map = ParamMap { n_states: n, names, slots, base, free: free_idx, constraints, specs };
+    let map = ParamMap { n_states: n, np, names, slots, base, free: free_idx, constraints, specs };
     let theta = map.theta_of(&map.base);
     let base = map.full(&theta);
     Ok(ParamMap { base, ..map })
@@ -443,7 +490,7 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
 /// Physical bounds of each full-vector entry: outside them a trial point is rejected (so LM
 /// cannot wander into regions where the model means nothing and integrates slowly).
 pub(super) fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> {
-    let np = n_params(map.n_states);
+    let np = map.np;
     for (i, &v) in full.iter().enumerate().take(np) {
         let ParamSpec { lo, hi, .. } = map.specs[i];
         if !(v >= lo && v <= hi) {

@@ -1,0 +1,75 @@
+//! Every own parameter of a law is fitted (issue 39), not only its first: a law with two
+//! (power-law aging blended with the Slip law, `n` and `w`), made with known values and white
+//! noise, fitted from the spec's starts away from the truth; both recovered within their
+//! stated uncertainty, each under its own name. (The stated uncertainty assumes independent
+//! residuals; with AR(1) noise it is too small, which is issue 40's, not this test's.)
+
+use rsf_core::{Model, StateVariable};
+use rsf_fit::fit::{FitOptions, ParamName, fit, prepare};
+use rsf_fit::segment::{SegmentOptions, detect};
+use rsf_fit::synthetic::{Noise, record};
+
+const BLEND: &str = r#"
+name = "blend-fit"
+words = "power-law aging blended with the Slip law"
+theta_rate = "w*(1 - omega^n) - (1 - w)*omega*ln(omega)"
+
+[[parameter]]
+name = "n"
+range = [0.2, 5.0]
+start = 1.0
+
+[[parameter]]
+name = "w"
+range = [0.0, 1.0]
+start = 0.5
+"#;
+
+#[test]
+fn a_law_with_two_parameters_has_both_fitted() {
+    let entry = rsf_laws::text_law::parse(BLEND, "blend.toml").unwrap();
+    rsf_laws::registry::register(entry.clone()).unwrap();
+    let truth_law = rsf_laws::law_by_name("blend-fit", |p| match p {
+        "n" => Some(1.6),
+        "w" => Some(0.7),
+        _ => None,
+    })
+    .unwrap();
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::from_shared(truth_law, 0.014, 10.0));
+    // steps up and down, then holds of 30 and 300 s: holds see n, steps see w
+    let protocol = [
+        (1.0, 80.0, 0.1),
+        (10.0, 20.0, 0.05),
+        (1.0, 120.0, 0.1),
+        (0.1, 400.0, 0.5),
+        (1.0, 120.0, 0.1),
+        (0.0, 30.0, 0.2),
+        (1.0, 100.0, 0.1),
+        (0.0, 300.0, 1.0),
+        (1.0, 120.0, 0.1),
+    ];
+    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 0.0 }, 11).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let start = rsf_laws::registry::find("blend-fit").unwrap().with_starting_values().unwrap();
+    assert_eq!(start.parameters(), vec![("n", 1.0), ("w", 0.5)]);
+    let opts = FitOptions::new(vec![start], 0.01);
+    let r = fit(&prepare(&rec, &segs, &opts).unwrap(), &opts).unwrap();
+    let (n, w) = (r.params.law_params["n1"], r.params.law_params["w1"]);
+    println!("n = {n} ± {}, w = {w} ± {}, rms {}", r.stderr["n1"], r.stderr["w1"], r.rms);
+    assert!(r.stderr.contains_key("n1") && r.stderr.contains_key("w1"), "free: {:?}", r.stderr.keys());
+    for (name, got, want) in [("n1", n, 1.6), ("w1", w, 0.7)] {
+        let se = r.stderr[name];
+        assert!(se > 0.0 && se.is_finite(), "{name}: stderr {se}");
+        assert!((got - want).abs() < 4.0 * se.max(1e-3), "{name} = {got} ± {se}, truth {want}");
+    }
+    assert!(r.rms < 1.05 * 2e-4, "rms {}", r.rms);
+    // the parameter names parse, and a fix on the second one holds it
+    assert_eq!("w1".parse::<ParamName>().unwrap(), ParamName::Law("w".into(), 1));
+    let mut held =
+        FitOptions::new(vec![rsf_laws::registry::find("blend-fit").unwrap().with_starting_values().unwrap()], 0.01);
+    held.fix = vec![rsf_fit::fit::Constraint::fixed("w1", 0.7)];
+    let r2 = fit(&prepare(&rec, &segs, &held).unwrap(), &held).unwrap();
+    assert_eq!(r2.params.law_params["w1"], 0.7);
+    assert!(!r2.stderr.contains_key("w1"));
+    assert!((r2.params.law_params["n1"] - 1.6).abs() < 0.05, "n with w held: {}", r2.params.law_params["n1"]);
+}
