@@ -147,8 +147,8 @@ fn fast_ramps_converge_to_the_step() {
 /// diagnosis names `normal_stress_coupling` for α = 0.3 and nothing for α = 0.
 #[test]
 fn alpha_is_recovered_and_diagnosed_from_independent_records() {
+    use rsf_diagnose::{Cause, DiagnoseOptions, diagnose};
     use rsf_fit::data::{ReadOptions, read_record};
-    use rsf_fit::diagnose::{Cause, DiagnoseOptions, diagnose};
     use rsf_fit::fit::{AlphaFit, FitOptions, LoadingMode, fit, prepare};
     use rsf_fit::segment::{SegmentOptions, detect};
     let dir = rsf_tests::data_dir().join("normal_stress");

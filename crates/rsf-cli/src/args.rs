@@ -208,7 +208,7 @@ pub(crate) struct DiagnosisArgs {
     /// Relative uncertainty (one standard deviation) of the nominal stiffness, from your
     /// machine's calibration: a fitted k within two of them of the nominal is not named as a
     /// cause.
-    #[arg(long, default_value_t = rsf_fit::diagnose::STIFFNESS_UNCERTAINTY)]
+    #[arg(long, default_value_t = rsf_diagnose::STIFFNESS_UNCERTAINTY)]
     pub(crate) stiffness_uncertainty: f64,
     /// Baseline evolution law: any law `rsf laws` lists (slip, aging, a law file's law…).
     #[arg(long, default_value = "slip")]
@@ -229,11 +229,11 @@ pub(crate) struct DiagnosisArgs {
     pub(crate) seed: u64,
     /// Noise replicates of the null calibration (parametric bootstrap under the baseline); 0
     /// names a cause on ΔBIC alone.
-    #[arg(long, default_value_t = rsf_fit::diagnose::NULL_REPLICATES)]
+    #[arg(long, default_value_t = rsf_diagnose::NULL_REPLICATES)]
     pub(crate) null_replicates: usize,
     /// A cause is named only when its gain would arise by chance under the baseline with
     /// probability below this.
-    #[arg(long, default_value_t = rsf_fit::diagnose::FALSE_ALARM_LEVEL)]
+    #[arg(long, default_value_t = rsf_diagnose::FALSE_ALARM_LEVEL)]
     pub(crate) false_alarm_level: f64,
     /// Threads for the independent fits (0: all cores; the result does not depend on it).
     #[arg(long, default_value_t = 0)]
@@ -268,10 +268,10 @@ pub(crate) struct DesignArgs {
     pub(crate) max_sigma_change: f64,
     /// Models within this ΔBIC of the best are credible (besides those that fit at least as
     /// well as the baseline).
-    #[arg(long, default_value_t = rsf_fit::design::CREDIBLE_DBIC)]
+    #[arg(long, default_value_t = rsf_design::CREDIBLE_DBIC)]
     pub(crate) credible: f64,
     /// Draws from each model's parameter covariance (0: the fitted parameters only).
-    #[arg(long, default_value_t = rsf_fit::design::DRAWS)]
+    #[arg(long, default_value_t = rsf_design::DRAWS)]
     pub(crate) draws: usize,
     /// Single steps and holds only, no sequences of two.
     #[arg(long)]
@@ -428,7 +428,7 @@ pub(crate) struct FitArgs {
     #[arg(long)]
     pub(crate) every_sample: bool,
     /// Number of starting points for LM.
-    #[arg(long, default_value_t = rsf_fit::batch::FIT_STARTS)]
+    #[arg(long, default_value_t = rsf_batch::FIT_STARTS)]
     pub(crate) starts: usize,
     /// Also refit each velocity step and each hold-and-reslide on its own (the consistency check across step sizes and hold times; the same refits as `rsf diagnose`)
     #[arg(long)]

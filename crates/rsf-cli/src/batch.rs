@@ -1,5 +1,5 @@
 //! `rsf batch`: a lab's archive, every record fitted and/or diagnosed in parallel, resumable,
-//! one summary table and figure. The per-record work and the table are `rsf_fit::batch`'s
+//! one summary table and figure. The per-record work and the table are `rsf_batch`'s
 //! (shared with Python's `fit_many`/`diagnose_many`); this file owns the files.
 //!
 //! Layout of `--out DIR`:
@@ -14,7 +14,7 @@
 
 use crate::args::BatchArgs;
 use anyhow::{Context, Result, bail};
-use rsf_fit::batch::{
+use rsf_batch::{
     Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv, summary_table,
 };
 use sha2::{Digest, Sha256};
@@ -131,7 +131,7 @@ fn one(e: &Entry, d: &RecordOptions, job: Job, dir: &Path, threads: usize, force
             let mut v = serde_json::to_value(dg)?;
             v["data"] = serde_json::json!(e.path.display().to_string());
             crate::output::write_bytes(&p.diagnosis, serde_json::to_string_pretty(&v)? + "\n")?;
-            crate::output::write_bytes(&p.report, rsf_fit::report::diagnosis_html(dg, &e.name))?;
+            crate::output::write_bytes(&p.report, rsf_report::diagnosis_html(dg, &e.name))?;
         }
         Ok(())
     };
@@ -208,7 +208,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("batch {bar:30} {pos}/{len} records, {elapsed} (eta {eta}) {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let results = rsf_fit::diagnose::par_map(&entries, jobs, |e| {
+    let results = rsf_fit::parallel::par_map(&entries, jobs, |e| {
         let r = one(e, &d, job, &dir, inner, a.force);
         bar.inc(1);
         bar.set_message(format!("{}: {}", e.name, if r.1 { "reused" } else { r.0.status.text() }));

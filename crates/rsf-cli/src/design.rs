@@ -3,8 +3,8 @@
 
 use crate::args::DesignArgs;
 use anyhow::{Context, Result, bail};
-use rsf_fit::design::{DesignOptions, protocol_toml};
-use rsf_fit::diagnose::DiagnoseOptions;
+use rsf_design::{DesignOptions, protocol_toml};
+use rsf_diagnose::DiagnoseOptions;
 use rsf_fit::segment::{SegmentOptions, detect};
 use std::time::Instant;
 
@@ -87,14 +87,14 @@ pub fn run(a: &DesignArgs) -> Result<()> {
                 segs.len(),
                 from.display()
             );
-            let design = rsf_fit::design::Rebuilt::from_json(&rec, &segs, &text, &dopts)
+            let design = rsf_design::Rebuilt::from_json(&rec, &segs, &text, &dopts)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", from.display()))
                 .and_then(|rb| {
                     let t = start.elapsed().as_secs_f64();
                     eprintln!("rsf design: models refitted in {t:.1} s; scoring the proposals…");
                     let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
                     let o = DesignOptions { progress: Some(progress), ..o };
-                    let mut d = rsf_fit::design::design_basis(&rec, &segs, &rb.basis(), &o)?;
+                    let mut d = rsf_design::design_basis(&rec, &segs, &rb.basis(), &o)?;
                     bar.finish_and_clear();
                     d.notes.splice(0..0, rb.notes.iter().cloned());
                     Ok((d, t))
@@ -105,13 +105,12 @@ pub fn run(a: &DesignArgs) -> Result<()> {
             eprintln!("rsf design: {} samples, {} segments; diagnosing first…", rec.len(), segs.len());
             let (bar, progress) = crate::fit::progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
             let dopts = DiagnoseOptions { progress: Some(progress), ..dopts };
-            let d = rsf_fit::diagnose::diagnose(&rec, &segs, &dopts)?;
+            let d = rsf_diagnose::diagnose(&rec, &segs, &dopts)?;
             bar.finish_and_clear();
             let t_diag = start.elapsed().as_secs_f64();
             eprintln!("rsf design: diagnosis in {t_diag:.1} s (cause: {}); scoring the proposals…", d.cause);
             let (bar, progress) = crate::fit::progress_bar("design {bar:30} {pos}/{len} proposals, {elapsed}");
-            let design =
-                rsf_fit::design::design_from(&rec, &segs, &d, &DesignOptions { progress: Some(progress), ..o })?;
+            let design = rsf_design::design_from(&rec, &segs, &d, &DesignOptions { progress: Some(progress), ..o })?;
             bar.finish_and_clear();
             let line = format!("cause: {} ({})\n", d.cause, d.reason);
             (design, Some(d), line, t_diag)
@@ -134,7 +133,7 @@ pub fn run(a: &DesignArgs) -> Result<()> {
             "{:>3}  {:>9} {:>9} {:>6} {:>9} {:>8} {:>9}  proposal\n",
             "#", "time_s", "slip_um", "score", "lead_Δχ²", "score/h", "peak_V"
         );
-        let row = |label: String, r: &rsf_fit::design::Ranked| {
+        let row = |label: String, r: &rsf_design::Ranked| {
             format!(
                 "{label:>3}  {:>9.0} {:>9.1} {:>6.2} {:>9.1} {:>8.2} {:>9.3e}  {}{}\n",
                 r.machine_time_s,
@@ -174,14 +173,14 @@ pub fn run(a: &DesignArgs) -> Result<()> {
         }
     }
     if let Some(p) = &a.plot {
-        match rsf_fit::report::design_svg(&design) {
+        match rsf_report::design_svg(&design) {
             Ok(svg) => crate::output::write_bytes(p, svg)?,
             Err(e) => bail!("--plot: {e}"),
         }
     }
     if let Some(page) = &a.report {
         let name = r.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        crate::output::write_bytes(page, rsf_fit::report::design_html(&design, &name))?;
+        crate::output::write_bytes(page, rsf_report::design_html(&design, &name))?;
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 use crate::args::{DiagnoseArgs, DiagnosisArgs, FitArgs};
 use anyhow::{Context, Result, bail};
-use rsf_fit::diagnose::{EventFit, event_windows, per_event_fits};
+use rsf_diagnose::{EventFit, event_windows, per_event_fits};
 use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
 use rsf_fit::segment::{SegmentOptions, detect};
 use serde::Serialize;
@@ -277,11 +277,11 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
 
 /// The diagnosis's options from the command line, checked before any work (the outputs'
 /// paths are checked by the caller first): `rsf diagnose` and `rsf design` alike.
-pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::DiagnoseOptions> {
+pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_diagnose::DiagnoseOptions> {
     if !(a.stiffness > 0.0 && a.stiffness.is_finite()) {
         bail!("--stiffness {} must be positive and finite (1/µm)", a.stiffness);
     }
-    let baseline: rsf_fit::diagnose::Baseline = a.baseline.parse().map_err(anyhow::Error::msg)?;
+    let baseline: rsf_diagnose::Baseline = a.baseline.parse().map_err(anyhow::Error::msg)?;
     let mut fo = FitOptions::new(vec![baseline.law().map_err(anyhow::Error::msg)?], a.stiffness);
     fo.loading = a.loading;
     fo.normal_stress = a.read.normal_stress_mode;
@@ -300,7 +300,7 @@ pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::D
             a.stiffness_uncertainty
         );
     }
-    Ok(rsf_fit::diagnose::DiagnoseOptions {
+    Ok(rsf_diagnose::DiagnoseOptions {
         heldout: !a.no_heldout,
         stiffness_uncertainty: a.stiffness_uncertainty,
         stage_times: a.stage_times,
@@ -308,7 +308,7 @@ pub(crate) fn diagnose_options(a: &DiagnosisArgs) -> Result<rsf_fit::diagnose::D
         threads: a.threads,
         null_replicates: a.null_replicates,
         false_alarm_level: a.false_alarm_level,
-        ..rsf_fit::diagnose::DiagnoseOptions::new(fo)
+        ..rsf_diagnose::DiagnoseOptions::new(fo)
     })
 }
 
@@ -330,11 +330,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         segs.len()
     );
     let (bar, progress) = progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
-    let d = rsf_fit::diagnose::diagnose(
-        &rec,
-        &segs,
-        &rsf_fit::diagnose::DiagnoseOptions { progress: Some(progress), ..opts },
-    )?;
+    let d = rsf_diagnose::diagnose(&rec, &segs, &rsf_diagnose::DiagnoseOptions { progress: Some(progress), ..opts })?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let mut out = format!("cause: {}\n{}\n", d.cause, d.reason);
@@ -418,7 +414,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     }
     if let Some(r) = &args.report {
         let name = a.data.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        crate::output::write_bytes(r, rsf_fit::report::diagnosis_html(&d, &name))?;
+        crate::output::write_bytes(r, rsf_report::diagnosis_html(&d, &name))?;
     }
     Ok(())
 }

@@ -1,5 +1,5 @@
 //! SVG figures of the CLI, on the workspace's one chart module (`rsf-plot`); the fit figure and
-//! the diagnosis report are built by `rsf_fit::report`.
+//! the diagnosis report are built by `rsf_report`.
 
 use anyhow::{Result, anyhow};
 use rsf_plot::{GREY, PALETTE, Panel, Series, render_stack};
@@ -27,15 +27,15 @@ pub fn simulation(sol: &Solution, measured: Option<&[f64]>, path: &Path, title: 
 
 /// Data, model and residuals of a fit against load-point displacement (`rsf fit --plot`).
 pub fn fit(r: &rsf_fit::fit::FitResult, path: &Path, title: &str) -> Result<()> {
-    let svg = rsf_fit::report::fit_svg(r, title).map_err(|e| anyhow!("{e}"))?;
+    let svg = rsf_report::fit_svg(r, title).map_err(|e| anyhow!("{e}"))?;
     crate::output::write_bytes(path, svg)
 }
 
 /// `rsf batch`'s summary figure: a, b and Dc of every record fitted, with their standard
 /// errors, against the load-point velocity, the normal stress and the longest hold (the axes
 /// no record has are left out); one colour per diagnosed cause.
-pub fn batch(rows: &[rsf_fit::batch::Row]) -> Result<String> {
-    use rsf_fit::batch::{Row, Status};
+pub fn batch(rows: &[rsf_batch::Row]) -> Result<String> {
+    use rsf_batch::{Row, Status};
     type Axis = (&'static str, fn(&Row) -> Option<f64>, bool);
     let axes: [Axis; 3] = [
         // the geometric mean of the slowest and fastest slide

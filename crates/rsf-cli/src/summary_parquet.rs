@@ -8,7 +8,7 @@ use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::types::Type;
-use rsf_fit::batch::{Cell, CellKind, SummaryTable};
+use rsf_batch::{Cell, CellKind, SummaryTable};
 use std::sync::Arc;
 
 /// The table as the bytes of a Parquet file: one row group, one column per summary column.

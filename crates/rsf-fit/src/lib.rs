@@ -11,10 +11,12 @@
 //! | [`sens`] | friction and its exact parameter derivatives from one forward-sensitivity integration |
 //! | [`lm`] | the Levenberg–Marquardt minimiser |
 //! | [`mcmc`] | posterior sampling by adaptive Metropolis, chains in parallel |
-//! | [`diagnose`] | what a fitted model gets wrong, the extension that fixes it and the gain |
-//! | [`design`] | the next velocity step or hold that best tells the credible causes apart |
-//! | [`report`] | the diagnosis as an HTML page, and the SVG charts of fits and diagnoses |
+//! | [`parallel`] | an order-keeping parallel map (results independent of thread count) |
 //! | [`synthetic`] | records made by the model with known parameters and noise, for tests |
+//!
+//! What a fitted model gets wrong is `rsf-diagnose`'s, the next experiment `rsf-design`'s, the
+//! HTML report `rsf-report`'s and a lab's archive `rsf-batch`'s: a law author who fits
+//! depends on this crate alone.
 //!
 //! A synthetic velocity-step record (Slip law, a = 0.010, b = 0.013, Dc = 8 µm, steps
 //! 1 → 10 → 1 µm/s sampled at 10 Hz, noise 2·10⁻⁴ in friction), its protocol detected from the
@@ -46,15 +48,12 @@
 //! ```
 #![forbid(unsafe_code)]
 
-pub mod batch;
 pub mod data;
-pub mod design;
-pub mod diagnose;
 pub mod fit;
 pub mod lm;
 pub mod mcmc;
+pub mod parallel;
 pub mod progress;
-pub mod report;
 pub mod segment;
 pub mod sens;
 pub mod synthetic;

@@ -157,7 +157,7 @@ pub fn run(p: &Prepared, opts: &FitOptions, best: &FitResult, m: &McmcOptions) -
     // one chain per thread, each with its own seeded stream: the same draws on any schedule
     let ids: Vec<usize> = (0..chains).collect();
     let results: Vec<(Vec<Vec<f64>>, usize)> =
-        crate::diagnose::par_map(&ids, chains, |&c| chain(c, steps, &x0, &c0, m.seed, &log_post, &tick));
+        crate::parallel::par_map(&ids, chains, |&c| chain(c, steps, &x0, &c0, m.seed, &log_post, &tick));
     if opts.cancelled() {
         return Err("cancelled".into());
     }

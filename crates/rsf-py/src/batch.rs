@@ -5,7 +5,7 @@
 
 use crate::value_error;
 use pyo3::prelude::*;
-use rsf_fit::batch::{Entry, Job, RecordOptions, Row, folder_entries, read_manifest, run_entry, summary_csv};
+use rsf_batch::{Entry, Job, RecordOptions, Row, folder_entries, read_manifest, run_entry, summary_csv};
 
 /// The records of a manifest (CSV) or a folder, as a JSON list of entries.
 #[pyfunction]

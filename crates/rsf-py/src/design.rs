@@ -4,7 +4,7 @@ use crate::fitting::{diagnose_options, interruptible, record};
 use crate::value_error;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
-use rsf_fit::design::{DesignOptions, design as run_design, design_from_json, protocol_toml};
+use rsf_design::{DesignOptions, design as run_design, design_from_json, protocol_toml};
 use rsf_fit::segment::{SegmentOptions, detect};
 
 /// Designs the next segment of a record (arrays) as `rsf design` does; returns the design's
@@ -13,8 +13,8 @@ use rsf_fit::segment::{SegmentOptions, detect};
 /// instead of diagnosing again when given.
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", v_range=(1e-3, 300.0),
-    max_hold=1e4, max_time=14400.0, max_slip=1000.0, max_sigma_change=0.0, credible=rsf_fit::design::CREDIBLE_DBIC,
-    draws=rsf_fit::design::DRAWS, sequences=true, seed=1, threads=0, name="record", diagnosis=None))]
+    max_hold=1e4, max_time=14400.0, max_slip=1000.0, max_sigma_change=0.0, credible=rsf_design::CREDIBLE_DBIC,
+    draws=rsf_design::DRAWS, sequences=true, seed=1, threads=0, name="record", diagnosis=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn design_json(
     py: Python<'_>,
@@ -61,7 +61,7 @@ pub fn design_json(
         }
     })?
     .map_err(value_error)?;
-    let html = rsf_fit::report::design_html(&d, name);
+    let html = rsf_report::design_html(&d, name);
     let toml = protocol_toml(&d, 1).unwrap_or_default();
     Ok((serde_json::to_string(&d).map_err(value_error)?, html, toml))
 }

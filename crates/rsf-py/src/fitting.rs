@@ -5,8 +5,8 @@
 use crate::value_error;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
+use rsf_diagnose::{DiagnoseOptions, diagnose as run_diagnose};
 use rsf_fit::data::Record;
-use rsf_fit::diagnose::{DiagnoseOptions, diagnose as run_diagnose};
 use rsf_fit::fit::{FitOptions, LoadingMode, fit as run_fit, prepare};
 use rsf_fit::segment::{SegmentOptions, detect};
 use std::sync::Arc;
@@ -209,7 +209,7 @@ pub fn fit_json(
             }
         };
         // the refits of `rsf fit --per-segment`: each step and hold alone
-        let per = if per_segment { rsf_fit::diagnose::per_event_fits(&prep, &opts, &res, 0) } else { vec![] };
+        let per = if per_segment { rsf_diagnose::per_event_fits(&prep, &opts, &res, 0) } else { vec![] };
         Ok((res, mc, per))
     })?
     .map_err(value_error)?;
@@ -249,7 +249,7 @@ pub(crate) fn diagnose_options(
     seed: u64,
     threads: usize,
 ) -> PyResult<(DiagnoseOptions, Arc<AtomicBool>)> {
-    let baseline = word::<rsf_fit::diagnose::Baseline>(baseline)?;
+    let baseline = word::<rsf_diagnose::Baseline>(baseline)?;
     let mut fo = fit_options(baseline.name(), stiffness, loading, false)?;
     fo.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     let cancel = Arc::new(AtomicBool::new(false));
@@ -263,7 +263,7 @@ pub(crate) fn diagnose_options(
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0,
     normal_stress=None, normal_stress_mode="auto", report=None, name="record", progress=false,
-    stiffness_uncertainty=rsf_fit::diagnose::STIFFNESS_UNCERTAINTY))]
+    stiffness_uncertainty=rsf_diagnose::STIFFNESS_UNCERTAINTY))]
 #[allow(clippy::too_many_arguments)]
 pub fn diagnose_json(
     py: Python<'_>,
@@ -298,7 +298,7 @@ pub fn diagnose_json(
         run_diagnose(&rec, &segs, &dopts).map_err(|e| e.to_string())
     })?
     .map_err(value_error)?;
-    let html = rsf_fit::report::diagnosis_html(&d, name);
+    let html = rsf_report::diagnosis_html(&d, name);
     if let Some(path) = report {
         std::fs::write(path, &html).map_err(|e| value_error(format!("writing {path}: {e}")))?;
     }

@@ -210,7 +210,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 t => t,
             };
             let runs = if threads > 1 && starts.len() > 2 && widest > 0 && run.hit.is_none() {
-                crate::diagnose::par_map(&starts[1..], threads, |s| run_start(s, widest, &convergence))
+                crate::parallel::par_map(&starts[1..], threads, |s| run_start(s, widest, &convergence))
             } else {
                 vec![]
             };

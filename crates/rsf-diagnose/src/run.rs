@@ -1,0 +1,496 @@
+//! The diagnosis: baseline, reconstruction check, evidence, candidates, held-out tests, the
+//! null calibration, the decision.
+
+use super::adequacy::{AdequacyVerdict, adequacy};
+use super::candidate::{Ctx, FullFit, secondary};
+use super::cause::Cause;
+use super::decide::{heldout_ok, ineligible, verdict};
+use super::events::{dc_consistency, event_windows, fit_event};
+use super::evidence::{evidence, noisy, reload_stiffness};
+use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
+use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
+use super::starts::slip_rate_range;
+use super::timing::timing_mask;
+use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
+use rsf_fit::data::{Record, isolated_spikes};
+use rsf_fit::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
+use rsf_fit::parallel::par_map;
+use rsf_fit::segment::Segment;
+use rsf_solvers::SolveError;
+
+/// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
+/// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
+const CANDIDATE_STARTS: usize = 2;
+/// Slip-rate range of the Vc profile when the baseline gives none, µm/s (lab rates).
+const DEFAULT_V_RANGE: (f64, f64) = (1e-3, 1e3);
+/// Each candidate fit gets this share of the baseline's work budget: a candidate the data
+/// cannot constrain (b2 running to its bound) must not dominate the work.
+const CANDIDATE_BUDGET_SHARE: f64 = 1.0 / 3.0;
+/// At most this many decisive candidates are put to the null calibration (each costs
+/// `null_replicates` pairs of refits); the rest keep their place in the table.
+const MAX_CALIBRATED: usize = 3;
+
+/// The baseline under `o`, and — under protocol loading — the reconstruction check: a segment
+/// that misfits far above the others is refitted with record loading, and if the misfit goes
+/// away there the protocol is blamed and the diagnosis continues with record loading.
+fn baseline(
+    rec: &Record,
+    segs: &[Segment],
+    o: &FitOptions,
+    threads: usize,
+) -> Result<(FitOptions, Prepared, FitResult, Option<super::Reconstruction>), FitError> {
+    let p = prepare(rec, segs, o)?;
+    // nothing else runs yet: the starts side by side (the returned options keep one thread,
+    // for the fits that run as parallel jobs later)
+    let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
+    let base = continued(rec, segs, &p, o, &fit)?;
+    if o.loading == LoadingMode::Protocol {
+        if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
+            let or = FitOptions { loading: LoadingMode::Record, ..o.clone() };
+            let pr = prepare(rec, segs, &or)?;
+            // the check: one start, warm from the protocol optimum; when the protocol is to
+            // blame, the record-loading baseline is then fitted in full
+            let check = FitOptions { initial: base.params.as_initial(), starts: 1, ..or.clone() };
+            if let Ok(fr) = fit(&pr, &check) {
+                if let Some(r) = judge(&base, &fr, i, ratio) {
+                    let full = fit(&pr, &or)?;
+                    return Ok((or, pr, full, Some(r)));
+                }
+            }
+            // record loading could not clear it: a short suspect segment is left out
+            if let Some(r) = exclude_short(&base) {
+                let mut oe = o.clone();
+                oe.exclude.extend(r.excluded.iter().copied());
+                let pe = prepare(rec, segs, &oe)?;
+                let be = fit(&pe, &oe)?;
+                return Ok((oe, pe, be, Some(r)));
+            }
+        }
+    }
+    Ok((o.clone(), p, base, None))
+}
+
+/// Steps of the continuation in the size of a record's changes of σ ([`continued`]): the
+/// record's σ history scaled about its first value by these fractions in turn, each fit
+/// starting from the one before. A quarter of a 20 % drop is the 5 % drop that a start fitted
+/// to the record before it follows; each step after it a further quarter.
+const SIGMA_CONTINUATION: [f64; 3] = [0.25, 0.5, 0.75];
+
+/// The cold fit of `p` (`rec` with its segments `segs`), continued when every start blows up
+/// at some time t: a start far from the optimum can be driven to run away by a large change
+/// late in the record (a drop of σ forces fast slip, which a poor start cannot follow). The
+/// record before the segment where it blew up is fitted first, and its optimum starts the fit
+/// of the whole record. When that runs away too and the record's σ varies, the changes of σ
+/// are grown to their measured size in steps ([`SIGMA_CONTINUATION`]), each fit starting from
+/// the optimum of the one before: the parameters follow the data as the forced slip grows. The
+/// first error is returned when that does not work either.
+fn continued(
+    rec: &Record,
+    segs: &[Segment],
+    p: &Prepared,
+    o: &FitOptions,
+    fit: &dyn Fn(&Prepared, &FitOptions) -> Result<FitResult, FitError>,
+) -> Result<FitResult, FitError> {
+    let first = fit(p, o);
+    let Err(FitError::Start(SolveError::BlowUp { t, .. })) = &first else { return first };
+    // the solver's time: the record's own under record loading, from the prepared record's
+    // start under protocol loading (`fit::forward`); the segment where it blew up
+    let t_abs = match o.loading {
+        LoadingMode::Record => *t,
+        LoadingMode::Protocol => p.record.time.first().copied().unwrap_or(0.0) + t,
+    };
+    let cut = segs.iter().map(|s| s.t0).filter(|&t0| t0 <= t_abs && t0 > rec.time[0]).fold(f64::NAN, f64::max);
+    if !cut.is_finite() {
+        return first;
+    }
+    let (train, tsegs) = training(rec, segs, cut);
+    let Ok(ft) = prepare(&train, &tsegs, o).and_then(|pt| fit(&pt, o)) else { return first };
+    let from = |f: &FitResult| FitOptions { initial: f.params.as_initial(), ..o.clone() };
+    let whole = fit(p, &from(&ft));
+    if whole.is_ok() || rec.normal_stress.is_empty() {
+        return whole.or(first);
+    }
+    let mut at = ft;
+    for lambda in SIGMA_CONTINUATION {
+        let mut scaled = rec.clone();
+        let s0 = rec.normal_stress[0];
+        for s in &mut scaled.normal_stress {
+            *s = s0 + lambda * (*s - s0);
+        }
+        match prepare(&scaled, segs, o).and_then(|ps| fit(&ps, &from(&at))) {
+            Ok(f) => at = f,
+            Err(_) => return first,
+        }
+    }
+    fit(p, &from(&at)).or(first)
+}
+
+enum Job {
+    /// A candidate's fit on the whole record (and its held-out test when that waits for it).
+    Candidate(Cause),
+    /// A candidate's held-out test, beside its fit.
+    Heldout(Cause, Box<FitOptions>),
+    Event(usize, usize),
+}
+
+/// A held-out test's outcome: the prediction's rms and the training fit.
+type HeldOut = Option<(f64, FitResult)>;
+
+enum Done {
+    /// The fit on the whole record, and the held-out test when it ran in the same job.
+    Candidate(Cause, Option<Box<(FullFit, Option<HeldOut>)>>),
+    Heldout(Cause, Box<HeldOut>),
+    Event(Option<EventFit>),
+}
+
+/// The options of the diagnosis's fits (before the loading check and the break-timing mask):
+/// uniform weights, bins that search rather than replace, one thread per fit.
+pub fn diagnosis_fit_options(opts: &DiagnoseOptions) -> FitOptions {
+    // uniform weights: the likelihood of noise of one σ everywhere, as lab noise is, so that
+    // ΔBIC has its nominal calibration (with segment weights a free parameter acting only in
+    // sparsely sampled segments would gain about mean(w²) per parameter on pure noise)
+    // the optimum sought on bin means, each result evaluated on every sample: the noise model
+    // reads the residuals sample by sample
+    // (bins that would replace the samples search instead)
+    let bins = match opts.fit.bins {
+        BinMeans::Replace { above, fraction } => BinMeans::Search { above, fraction },
+        b @ (BinMeans::Off | BinMeans::Search { .. }) => b,
+    };
+    // one thread per fit: the fits run as parallel jobs (the baseline's starts get `opts.threads`)
+    FitOptions { weighting: Weighting::Uniform, bins, threads: 1, ..opts.fit.clone() }
+}
+
+/// The record without its isolated spikes (bad samples, not friction), its segments re-indexed,
+/// and the spikes' times.
+pub fn without_spikes(rec: &Record, segs: &[Segment]) -> (Record, Vec<Segment>, Vec<f64>) {
+    let spikes = isolated_spikes(&rec.mu);
+    let clean = rec.without(&spikes);
+    let segs: Vec<Segment> = segs
+        .iter()
+        .map(|s| {
+            let i0 = clean.time.partition_point(|&t| t < rec.time[s.i0]);
+            let i1 = clean.time.partition_point(|&t| t <= rec.time[s.i1]).saturating_sub(1).max(i0);
+            Segment { i0, i1, ..s.clone() }
+        })
+        .collect();
+    let spikes_removed: Vec<f64> = spikes.iter().map(|&i| rec.time[i]).collect();
+    (clean, segs, spikes_removed)
+}
+
+/// Runs the diagnosis on a record with its segments.
+pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Result<Diagnosis, FitError> {
+    let o = diagnosis_fit_options(opts);
+    if o.laws.len() != 1 {
+        return Err(FitError::Setup("the baseline has one state variable".into()));
+    }
+    // isolated spikes are bad samples, not friction: out before anything is fitted to them
+    let (clean, segs, spikes_removed) = without_spikes(rec, segs);
+    let (rec, segs) = (&clean, &segs[..]);
+    // each stage's and job's wall time on stderr (profiling only)
+    let timing_log = opts.stage_times;
+    let clock = std::time::Instant::now();
+    let lap = |what: &str| {
+        if timing_log {
+            eprintln!("diagnose: {what} done at {:.2} s", clock.elapsed().as_secs_f64());
+        }
+    };
+    let (base_opts, p, base, reconstruction) = baseline(rec, segs, &o, opts.threads)?;
+    lap("baseline and reconstruction check");
+    let mask = timing_mask(&p, &base);
+    // the load-point noise the null replicates re-segment with, masked or not
+    let lp_noise = mask.as_ref().map(|m| m.load_point_sigma_um);
+    let (base_opts, p, base, timing) = match mask {
+        Some(m) if opts.timing_mask && base_opts.loading == LoadingMode::Protocol => {
+            // refit without the samples the protocol's timing cannot predict, from the optimum
+            // added to what the reconstruction check already left out (a short suspect
+            // segment stays out of every fit, as the report says)
+            let exclude = base_opts.exclude.iter().chain(&m.windows).copied().collect();
+            let mut om = FitOptions { exclude, ..base_opts.clone() };
+            // a few samples fewer: one start, warm from the optimum
+            let warm = FitOptions { initial: base.params.as_initial(), starts: 1, ..om.clone() };
+            let pm = prepare(rec, segs, &om)?;
+            let bm = fit(&pm, &warm)?;
+            om.initial = base_opts.initial.clone();
+            (om, pm, bm, Some(m))
+        }
+        _ => (base_opts, p, base, None),
+    };
+    lap("break-timing mask");
+    let base_noise = noisy(&base);
+    let mut ev = evidence(&base, &base_noise);
+    ev.k_reload_slope = reload_stiffness(&p);
+    let t_split = split_time(&p.record, &p.segments);
+    let sigma_held_out = sigma_first_changes_after(p.normal_stress.as_ref(), t_split);
+    // the baseline's held-out fit first: every extension's held-out fit starts from it
+    let ho_base = if opts.heldout {
+        let oh = FitOptions { mu0_per_segment: false, ..base_opts.clone() };
+        let threads = opts.threads;
+        heldout(
+            &p.record,
+            &p.segments,
+            &oh,
+            // cold, as the baseline on the whole record: continued past a late run-away
+            &|pt: &Prepared, ot: &FitOptions| {
+                let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
+                continued(&pt.record, &pt.segments, pt, ot, &fit).ok()
+            },
+            t_split,
+        )
+    } else {
+        None
+    };
+    lap("held-out baseline");
+    let v_range = slip_rate_range(&base).unwrap_or(DEFAULT_V_RANGE);
+    let ctx = Ctx {
+        rec,
+        segs,
+        opts,
+        // each candidate fit gets CANDIDATE_BUDGET_SHARE of the baseline budget and, starting
+        // from the baseline optimum, fewer starts: the scaled restarts of a cold
+        // fit explore what the baseline's own multi-start already explored (a second state
+        // keeps its two extra starts, b2 of either sign)
+        cand_opts: FitOptions {
+            budget: base_opts.budget.scaled(CANDIDATE_BUDGET_SHARE),
+            starts: base_opts.starts.min(CANDIDATE_STARTS),
+            ..base_opts.clone()
+        },
+        base_law: base_opts.laws[0].name(),
+        base_opts,
+        p,
+        base_noise,
+        base,
+        ev,
+        v_range,
+        t_split,
+        sigma_held_out,
+        ho_base_noise: ho_base.as_ref().map(|(_, f)| noisy(f)),
+        ho_base,
+        lp_noise,
+    };
+    let causes: Vec<Cause> = Cause::CANDIDATES
+        .into_iter()
+        .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
+        // α acts only through changes of σ
+        .filter(|&c| c != Cause::NormalStressCoupling || ctx.p.normal_stress.is_some())
+        .collect();
+    // each held-out test beside its candidate's fit, where it does not wait for the fit's choice
+    let beside: Vec<(Cause, FitOptions)> = match ctx.ho_base {
+        Some(_) => causes.iter().filter_map(|&c| ctx.single_variant(c).map(|o| (c, o))).collect(),
+        None => vec![],
+    };
+    let mut jobs: Vec<Job> = causes.iter().map(|&c| Job::Candidate(c)).collect();
+    jobs.extend(beside.iter().map(|(c, o)| Job::Heldout(*c, Box::new(o.clone()))));
+    if opts.per_segment {
+        jobs.extend(event_windows(&ctx.p).into_iter().map(|(a, b)| Job::Event(a, b)));
+    }
+    let done_count = std::sync::atomic::AtomicUsize::new(0);
+    let results = par_map(&jobs, opts.threads, |job| {
+        let clock = std::time::Instant::now();
+        let (what, out) = match job {
+            Job::Candidate(c) => {
+                let full = ctx.full_fit(*c).map(|ff| {
+                    // the held-out test of the way the fit chose, when it could not run beside
+                    let ho =
+                        (ctx.ho_base.is_some() && !beside.iter().any(|b| b.0 == *c)).then(|| ctx.heldout_fit(&ff.o));
+                    Box::new((ff, ho))
+                });
+                (c.to_string(), Done::Candidate(*c, full))
+            }
+            Job::Heldout(c, o) => (format!("{c} held out"), Done::Heldout(*c, Box::new(ctx.heldout_fit(o)))),
+            Job::Event(a, b) => {
+                (format!("segment {}", b + 1), Done::Event(fit_event(&ctx.p, &ctx.base_opts, &ctx.base, *a, *b)))
+            }
+        };
+        if timing_log {
+            eprintln!("diagnose: {what} in {:.2} s", clock.elapsed().as_secs_f64());
+        }
+        let d = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(pr) = &opts.progress {
+            pr(d, jobs.len(), &what);
+        }
+        out
+    });
+    let mut fulls = vec![];
+    let mut heldouts = vec![];
+    let mut per_segment = vec![];
+    for r in results {
+        match r {
+            Done::Candidate(c, Some(b)) => fulls.push((c, *b)),
+            Done::Candidate(_, None) => {}
+            Done::Heldout(c, h) => heldouts.push((c, *h)),
+            Done::Event(e) => per_segment.extend(e),
+        }
+    }
+    let mut candidates: Vec<Candidate> = fulls
+        .into_iter()
+        .map(|(c, (ff, ho))| {
+            let ho =
+                ho.unwrap_or_else(|| heldouts.iter().position(|h| h.0 == c).and_then(|i| heldouts.swap_remove(i).1));
+            ctx.candidate(c, ff, ho)
+        })
+        .collect();
+    let mut ev = ctx.ev.clone();
+    (ev.dc_consistency_chi2, ev.dc_vs_ln_step, ev.dc_vs_ln_hold) = dc_consistency(&per_segment);
+    candidates.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+    // the null calibration, best first, for decisive candidates that are otherwise credible,
+    // until one passes
+    let level = opts.false_alarm_level;
+    if opts.null_replicates > 0 {
+        let mut tried = 0;
+        for c in candidates.iter_mut() {
+            // a candidate the held-out test cannot judge waits for the null's verdict
+            let awaiting = c.heldout_uninformative && c.null.is_none() && c.at_bound.is_empty();
+            if !(c.delta_bic < DECISIVE) || (ineligible(c, level).is_some() && !awaiting) || tried == MAX_CALIBRATED {
+                continue;
+            }
+            tried += 1;
+            let clock = std::time::Instant::now();
+            c.null = ctx.calibrate(c);
+            if timing_log {
+                eprintln!("diagnose: null calibration of {} in {:.2} s", c.cause, clock.elapsed().as_secs_f64());
+            }
+            if let Some(pr) = &opts.progress {
+                pr(jobs.len(), jobs.len(), &format!("null calibration of {}", c.cause));
+            }
+            if ineligible(c, level).is_none() {
+                break;
+            }
+        }
+    }
+    let decisive: Vec<&Candidate> = candidates.iter().filter(|c| c.delta_bic < DECISIVE).collect();
+    let chosen = decisive.iter().copied().find(|c| ineligible(c, level).is_none());
+    let rejected: Vec<String> =
+        decisive.iter().take_while(|c| ineligible(c, level).is_some()).filter_map(|c| ineligible(c, level)).collect();
+    // the runner-up: the best other credible candidate (set-aside ones are named in the reason),
+    // else the best other one (with no winner, simply the best-scoring candidate)
+    let others = || candidates.iter().filter(|c| chosen.is_none_or(|ch| ch.cause != c.cause));
+    let runner_up = others()
+        .find(|c| chosen.is_none() || ineligible(c, level).is_none())
+        .or_else(|| others().next())
+        .map(|c| (c.cause, c.delta_bic));
+    lap("candidates, events and null calibration");
+    let secondary = match chosen {
+        Some(c1) if opts.combinations => secondary(&ctx, c1, &decisive, level),
+        _ => None,
+    };
+    lap("combinations");
+    let super::decide::Verdict { mut cause, mut reason, mut extended, mut gain, mut effect, mut confidence } =
+        verdict(ctx.ev.n_effective, chosen, &candidates, &rejected, &secondary);
+    // the adequacy of the model named (with its second cause), or of the baseline for `none`:
+    // a cause is named only when its model explains the events to the noise level
+    let named_fit = secondary.as_ref().map(|s| &s.fit).or(chosen.and_then(|c| c.fit.as_ref())).unwrap_or(&ctx.base);
+    let adequacy = adequacy(named_fit, &ctx.p.segments);
+    let mut partial = None;
+    match adequacy.verdict {
+        AdequacyVerdict::Inadequate => {
+            // the best partial extension: the one named, else the best decisive candidate
+            let best = chosen.or_else(|| decisive.first().copied());
+            if let Some(b) = best.filter(|_| chosen.is_none()) {
+                extended = b.fit.clone();
+                gain = Some(super::Gain {
+                    delta_bic: b.delta_bic,
+                    delta_aic: b.delta_aic,
+                    rms_ratio: b.rms_ratio,
+                    heldout_rms_before: b.heldout_rms_before,
+                    heldout_rms_after: b.heldout_rms_after,
+                });
+                effect = b.effect.clone();
+                confidence = b.delta_bic;
+            }
+            partial = best.map(|b| b.cause);
+            reason = match best {
+                Some(b) => format!(
+                    "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named model's cause lies outside the menu (before: {reason})",
+                    b.extension,
+                    b.delta_bic,
+                    adequacy.words()
+                ),
+                None => format!(
+                    "not explained: no extension on the menu earns its parameters, yet the baseline {}; the cause lies outside the menu (before: {reason})",
+                    adequacy.words()
+                ),
+            };
+            cause = Cause::Unexplained;
+        }
+        AdequacyVerdict::Adequate | AdequacyVerdict::Untestable => {
+            reason += &format!("; {}", adequacy.words());
+        }
+    }
+    // a cut-off and a share of time-dependent healing both strengthen long holds: when the
+    // other one is decisive and credible too and scores within UNDECIDED_DBIC, the record does
+    // not tell them apart, and the diagnosis says so with both scores
+    let undecided: Vec<(Cause, f64)> = match chosen.map(|c| c.cause) {
+        Some(first @ (Cause::CutoffVelocity | Cause::EvolutionLaw)) => {
+            let other = if first == Cause::CutoffVelocity { Cause::EvolutionLaw } else { Cause::CutoffVelocity };
+            let c1 = chosen.map_or(0.0, |c| c.delta_bic);
+            candidates
+                .iter()
+                .find(|c| {
+                    c.cause == other
+                        && c.delta_bic < DECISIVE
+                        && c.delta_bic - c1 < super::UNDECIDED_DBIC
+                        && heldout_ok(c.heldout_rms_before, c.heldout_rms_after)
+                        && c.at_bound.is_empty()
+                })
+                .map(|c2| vec![(first, c1), (other, c2.delta_bic)])
+                .unwrap_or_default()
+        }
+        Some(
+            Cause::None
+            | Cause::SecondStateVariable
+            | Cause::SlipTrend
+            | Cause::Stiffness
+            | Cause::NormalStressCoupling
+            | Cause::Unexplained,
+        )
+        | None => vec![],
+    };
+    if let [(a, da), (b, db)] = undecided[..] {
+        reason += &format!(
+            "; undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): the record does not tell them \
+             apart — a cut-off flattens healing only in holds whose slip rate falls below Vc, a share of \
+             time-dependent healing also changes the velocity steps (see rsf design)"
+        );
+    }
+    // the drift left in the residuals of the model named (the baseline's hold the named cause's
+    // misfit as well, which their noise model reads as drift)
+    let final_noise = match chosen.and_then(|c| c.fit.as_ref()) {
+        Some(f) => Some(noisy(f).model),
+        None => ctx.ev.noise.clone(),
+    };
+    let noise_drift = final_noise.as_ref().filter(|m| m.drift_share >= super::DRIFT_NOTE_SHARE).map(|m| {
+        super::NoiseDrift { rms: (m.drift_share * m.variance).sqrt(), share: m.drift_share, beta: m.drift_beta }
+    });
+    if let Some(d) = &noise_drift {
+        reason += &format!(
+            "; the residuals carry slow drift (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), counted as noise",
+            d.beta,
+            d.rms,
+            100.0 * d.share
+        );
+    }
+    Ok(Diagnosis {
+        cause,
+        confidence,
+        reason,
+        evidence: ev,
+        extended,
+        gain,
+        effect,
+        partial,
+        adequacy,
+        runner_up,
+        undecided,
+        noise_drift,
+        secondary,
+        per_segment,
+        heldout_split_t: ctx.t_split,
+        reconstruction,
+        timing,
+        spikes_removed,
+        loading: ctx.base_opts.loading,
+        candidates: candidates.clone(),
+        baseline_options: Some(ctx.base_opts.clone()),
+        baseline: ctx.base,
+    })
+}

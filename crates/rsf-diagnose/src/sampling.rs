@@ -1,0 +1,552 @@
+//! The noise model of a variably sampled record, in time.
+//!
+//! Labs sample densely after a step (100 Hz) and sparsely in a hold (0.2 Hz). Read in sample
+//! index, AR(1) noise with a correlation time of seconds is φ ≈ 0.999 in the bursts and 0.01
+//! in the holds; the index spectrum of that mixture looks like 1/f drift, the drift takes all
+//! the variance and n_eff collapses (issue 21: a second state of b2 1.2e-3 was missed so).
+//! Here the same three parts are defined in time:
+//!
+//! - white noise, per sample (σ²: a sensor's noise does not depend on the sampling rate);
+//! - an Ornstein–Uhlenbeck process (AR(1) in time) of variance s² and correlation time τ:
+//!   sampled at interval Δ it is AR(1) with φ = exp(−Δ/τ), exactly;
+//! - a power-law drift with two-sided spectrum P(ν) = A·Δ₀·(ν T)^(−β) (T the record's span,
+//!   Δ₀ its median interval; A is then the per-sample power at the lowest frequency, as in the
+//!   uniform model).
+//!
+//! **Estimate.** The record is cut into stretches of one interval (within
+//! [`SAME_INTERVAL`]); stretches of one interval are pooled; each stretch's periodogram is
+//! taken with a taper ([`super::whittle::TAPER_SHARE`]) and each pool's, binned in log
+//! frequency, is fitted by Whittle's likelihood with the pool's own basis — the uniform
+//! model's amplitude scoring ([`super::whittle`]), on a grid of β and τ refined by golden
+//! sections. The slowest
+//! frequencies, between stretches, come from the whole record sub-sampled at the longest
+//! interval, below the lowest frequency any stretch resolves.
+//!
+//! **Likelihood.** The exact Gaussian likelihood of the residuals at their own times, by a
+//! Kalman filter: the OU part is one state, the drift a sum of OU processes with time
+//! constants from T down by half decades (the classic sum-of-relaxations form of a power law,
+//! weights ∝ τ_k^(β−1), scaled to P(ν) by least squares in log over the band). Cost
+//! O(n K²), K ≤ 1 + [`MAX_DRIFT_COMPONENTS`]. n_eff = σ²·1ᵀΣ⁻¹1, the information for a
+//! constant offset, from the same filter.
+//!
+//! **Replicates.** White noise per sample, the OU part by its exact recursion at the sample
+//! times, the drift synthesised on a uniform grid in time and interpolated.
+
+use rand_distr::{Distribution, StandardNormal};
+
+use super::noise::{BETAS, MAX_DRIFT_GRID, NoiseModel, NoiseStderr, SINGLE_BINS, VariableSampling};
+use super::whittle::{amplitude_stderr, amplitudes, ar1_shape, grid_stderr, power_law_variance, tapered_periodogram};
+
+/// Intervals within this relative distance of a stretch's first interval belong to it: wide
+/// enough for a logger's clock jitter (±1–2 %), narrow enough to split 100 Hz from 50 Hz.
+const SAME_INTERVAL: f64 = 0.1;
+/// A record is variably sampled when its 90th-percentile interval exceeds its 10th by this
+/// factor; a few intervals doubled by removed spikes do not make a record variable.
+const VARIABLE_SAMPLING_RATIO: f64 = 2.0;
+/// A stretch shorter than this gives no spectrum (fewer than 16 Fourier ordinates).
+const MIN_STRETCH: usize = 32;
+/// Bins grow by this factor in a pool's periodogram above its [`SINGLE_BINS`] lowest ordinates
+/// (coarser than the uniform model's: a record has several pools).
+const POOL_BIN_GROWTH: f64 = 1.12;
+/// Correlation times tried for the OU part: this many, log-spaced from half the shortest
+/// interval to a tenth of the span.
+const TAU_POINTS: usize = 14;
+/// Golden-section steps refining τ and β between grid points: the bracket shrinks to 0.1 %.
+const GOLDEN_STEPS: usize = 15;
+/// Drift components per decade of time constant: at two, the sum of relaxations follows the
+/// power law to a few per cent between its ends.
+const COMPONENTS_PER_DECADE: f64 = 2.0;
+/// At most this many drift components (7 decades below the span).
+const MAX_DRIFT_COMPONENTS: usize = 14;
+/// Drift components stop where the drift's power falls below this share of the white noise's
+/// at the shortest interval: below it they change the likelihood by less than its rounding.
+const DRIFT_FLOOR: f64 = 1e-3;
+
+/// A run of samples at one interval.
+#[derive(Clone, Copy, Debug)]
+struct Stretch {
+    start: usize,
+    len: usize,
+    dt: f64,
+}
+
+/// The median sampling interval of `times` (1 s for fewer than two samples).
+pub(super) fn median_interval(times: &[f64]) -> f64 {
+    let mut d: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    d.sort_by(f64::total_cmp);
+    d.get(d.len() / 2).copied().unwrap_or(1.0)
+}
+
+/// Whether `times` are sampled at intervals that differ by more than [`VARIABLE_SAMPLING_RATIO`]
+/// between their 10th and 90th percentiles.
+pub(super) fn is_variable(times: &[f64]) -> bool {
+    let mut d: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    if d.len() < 2 * MIN_STRETCH {
+        return false;
+    }
+    d.sort_by(f64::total_cmp);
+    let (p10, p90) = (d[d.len() / 10], d[d.len() * 9 / 10]);
+    p90 > VARIABLE_SAMPLING_RATIO * p10
+}
+
+/// Maximal runs of samples whose intervals stay within [`SAME_INTERVAL`] of the run's first.
+fn stretches(times: &[f64]) -> Vec<Stretch> {
+    let n = times.len();
+    let mut out = vec![];
+    let mut i = 0;
+    while i + 1 < n {
+        let d0 = times[i + 1] - times[i];
+        let mut j = i + 1;
+        while j + 1 < n && ((times[j + 1] - times[j]) / d0 - 1.0).abs() <= SAME_INTERVAL {
+            j += 1;
+        }
+        let len = j - i + 1;
+        out.push(Stretch { start: i, len, dt: (times[j] - times[i]) / (len - 1) as f64 });
+        i = j + 1;
+    }
+    out
+}
+
+/// One pool of stretches at one interval: its binned periodogram (frequency in cycles per
+/// sample, mean power, ordinates) and its interval.
+struct Pool {
+    dt: f64,
+    bins: Vec<(f64, f64, f64)>,
+    /// The whole record sub-sampled at the longest interval (its slowest frequencies only).
+    whole: bool,
+}
+
+/// Pools the long-enough stretches by interval and bins each pool's periodogram ordinates;
+/// then adds the record's slowest frequencies, which no stretch resolves (drift between
+/// stretches): the residuals at the samples nearest a uniform grid at the longest pool's
+/// interval W span the whole record, and sub-sampled so they are the same three parts sampled
+/// at W. Of that series only the ordinates below 1/(longest stretch) enter, so no frequency is
+/// counted twice.
+fn pools(r: &[f64], times: &[f64], st: &[Stretch]) -> Vec<Pool> {
+    let mut long: Vec<&Stretch> = st.iter().filter(|s| s.len >= MIN_STRETCH).collect();
+    long.sort_by(|a, b| a.dt.total_cmp(&b.dt));
+    let mut out = vec![];
+    let mut k = 0;
+    while k < long.len() {
+        let d0 = long[k].dt;
+        let mut e = k;
+        let mut ords: Vec<(f64, f64, f64)> = vec![];
+        let (mut wsum, mut dsum) = (0.0, 0.0);
+        while e < long.len() && (long[e].dt / d0 - 1.0).abs() <= SAME_INTERVAL {
+            let s = long[e];
+            let (p, dof) = tapered_periodogram(&r[s.start..s.start + s.len]);
+            ords.extend(p.iter().enumerate().map(|(j, &i)| ((j + 1) as f64 / s.len as f64, i, dof)));
+            wsum += s.len as f64;
+            dsum += s.len as f64 * s.dt;
+            e += 1;
+        }
+        out.push(Pool { dt: dsum / wsum, bins: bin_ordinates(ords), whole: false });
+        k = e;
+    }
+    let (Some(last), Some(longest)) = (out.last(), long.iter().map(|s| (s.len - 1) as f64 * s.dt).reduce(f64::max))
+    else {
+        return out;
+    };
+    let w = last.dt;
+    let (t0, span) = (times[0], times[times.len() - 1] - times[0]);
+    let points = (span / w).floor() as usize + 1;
+    if points >= MIN_STRETCH && span > 2.0 * longest {
+        let mut i = 0;
+        let picked: Vec<f64> = (0..points)
+            .map(|g| {
+                let t = t0 + g as f64 * w;
+                while i + 1 < times.len() && (times[i + 1] - t).abs() <= (times[i] - t).abs() {
+                    i += 1;
+                }
+                r[i]
+            })
+            .collect();
+        let (p, dof) = tapered_periodogram(&picked);
+        let ords: Vec<(f64, f64, f64)> = p
+            .iter()
+            .enumerate()
+            .map(|(j, &i)| ((j + 1) as f64 / points as f64, i, dof))
+            .take_while(|&(f, _, _)| f / w < 1.0 / longest)
+            .collect();
+        if !ords.is_empty() {
+            out.push(Pool { dt: w, bins: bin_ordinates(ords), whole: true });
+        }
+    }
+    out
+}
+
+/// Bins periodogram ordinates (frequency in cycles per sample, power, worth in independent
+/// ordinates): the [`SINGLE_BINS`] lowest one by one, then bins [`POOL_BIN_GROWTH`] wide in
+/// frequency; a bin's weight is its ordinates' worth.
+fn bin_ordinates(mut ords: Vec<(f64, f64, f64)>) -> Vec<(f64, f64, f64)> {
+    ords.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut bins = vec![];
+    let mut j = 0;
+    while j < ords.len() {
+        let end = if j < SINGLE_BINS {
+            j + 1
+        } else {
+            let lim = ords[j].0 * POOL_BIN_GROWTH;
+            j + ords[j..].iter().take_while(|o| o.0 <= lim).count().max(1)
+        };
+        let m = (end - j) as f64;
+        let f = ords[j..end].iter().map(|o| o.0).sum::<f64>() / m;
+        let worth: f64 = ords[j..end].iter().map(|o| o.2).sum();
+        bins.push((f, ords[j..end].iter().map(|o| o.1).sum::<f64>() / m, worth));
+        j = end;
+    }
+    bins
+}
+
+/// The three spectral shapes, per sample, at `f` cycles per sample of a pool at interval `dt`:
+/// white, OU of correlation time `tau`, and the drift (Δ₀/Δ)·(ν T)^(−β), ν = f/Δ.
+fn basis(f: f64, dt: f64, dt0: f64, span: f64, beta: f64, tau: f64) -> [f64; 3] {
+    [1.0, ar1_shape(f, (-dt / tau).exp()), dt0 / dt * (f / dt * span).powf(-beta)]
+}
+
+/// The correlation times tried for the OU part.
+fn tau_grid(dt_min: f64, span: f64) -> Vec<f64> {
+    let (lo, hi) = ((0.5 * dt_min).ln(), (0.1 * span).max(dt_min).ln());
+    (0..TAU_POINTS).map(|i| (lo + (hi - lo) * i as f64 / (TAU_POINTS - 1) as f64).exp()).collect()
+}
+
+/// Fits white + OU + power-law drift in time to residuals `r` at `times` (variably sampled);
+/// returns the model and the residuals' log-likelihood under it.
+pub(super) fn fit(r: &[f64], times: &[f64]) -> (NoiseModel, f64) {
+    let n = r.len();
+    let mean = r.iter().sum::<f64>() / n.max(1) as f64;
+    let var = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n.max(1) as f64;
+    let dt0 = median_interval(times);
+    let st = stretches(times);
+    let pl = pools(r, times, &st);
+    let span = times[n - 1] - times[0];
+    let nbins: usize = pl.iter().map(|p| p.bins.len()).sum();
+    if pl.is_empty() || nbins < 8 || !(var > 0.0) || !(span > 0.0) {
+        let m = NoiseModel::white(var.max(0.0), n, dt0);
+        let ll = m.log_likelihood(r);
+        return (m, ll);
+    }
+    let dt_min = pl[0].dt;
+    let b: Vec<(f64, f64, f64)> = pl.iter().flat_map(|p| p.bins.iter().copied()).collect();
+    let ordinates: f64 = b.iter().map(|x| x.2).sum();
+    let penalty = 0.5 * ordinates.ln();
+    let taus = tau_grid(dt_min, span);
+    let shapes = |beta: f64, tau: f64| -> Vec<[f64; 3]> {
+        pl.iter().flat_map(|p| p.bins.iter().map(move |&(f, _, _)| basis(f, p.dt, dt0, span, beta, tau))).collect()
+    };
+    let mut best = (f64::INFINITY, 0, 0, [var, 0.0, 0.0]);
+    let mut table = vec![vec![f64::INFINITY; taus.len()]; BETAS.len()];
+    for (ib, &beta) in BETAS.iter().enumerate() {
+        for (it, &tau) in taus.iter().enumerate() {
+            let (a, v) = amplitudes(&b, &shapes(beta, tau), var, true, penalty);
+            table[ib][it] = v;
+            if v < best.0 {
+                best = (v, ib, it, a);
+            }
+        }
+    }
+    let (_, ib, it, _) = best;
+    // the grid is coarse (τ by factors of ~2.4): a τ between two grid points is fitted by the
+    // nearer one plus a spurious drift that makes up the low-frequency power. Refine τ, then β,
+    // by golden sections within their neighbouring grid points.
+    let cost = |beta: f64, tau: f64| amplitudes(&b, &shapes(beta, tau), var, true, penalty).1;
+    let bracket = |g: &[f64], i: usize| (g[i.saturating_sub(1)], g[(i + 1).min(g.len() - 1)]);
+    let (lo, hi) = bracket(&taus, it);
+    let tau = golden(|lt| cost(BETAS[ib], lt.exp()), lo.ln(), hi.ln()).exp();
+    let (lo, hi) = bracket(&BETAS, ib);
+    let beta = golden(|be| cost(be, tau), lo, hi);
+    let a = amplitudes(&b, &shapes(beta, tau), var, true, penalty).0;
+    let x = shapes(beta, tau);
+    let se = amplitude_stderr(&b, &x, &a);
+    let beta_profile: Vec<f64> = (0..BETAS.len()).map(|i| table[i][it]).collect();
+    let phis: Vec<f64> = taus.iter().map(|t| (-dt0 / t).exp()).collect();
+    let drift_n = span / dt0;
+    let drift_var = a[2] * power_law_variance(drift_n, beta);
+    let mut periodogram: Vec<[f64; 3]> = vec![];
+    let mut xi = x.iter();
+    for p in &pl {
+        for &(f, ibar, _) in &p.bins {
+            let xb = xi.next().copied().unwrap_or([0.0; 3]);
+            let s = a[0] * xb[0] + a[1] * xb[1] + a[2] * xb[2];
+            periodogram.push([f / p.dt, ibar * p.dt / dt0, s * p.dt / dt0]);
+        }
+    }
+    periodogram.sort_by(|u, v| u[0].total_cmp(&v[0]));
+    let mut model = NoiseModel {
+        white_variance: a[0],
+        ar1_variance: a[1],
+        ar1_phi: if a[1] > 0.0 { (-dt0 / tau).exp() } else { 0.0 },
+        ar1_tau_s: if a[1] > 0.0 { tau } else { 0.0 },
+        drift_amplitude: a[2],
+        drift_beta: beta,
+        stderr: NoiseStderr::of(
+            se,
+            &a,
+            || grid_stderr(&BETAS, &beta_profile, ib),
+            || grid_stderr(&phis, &table[ib], it),
+        ),
+        variance: var,
+        drift_share: (drift_var / var).clamp(0.0, 1.0),
+        n_effective: n as f64,
+        n,
+        dt: dt0,
+        periodogram,
+        sampling: None,
+        drift_n,
+    };
+    let long: Vec<&Stretch> = st.iter().filter(|s| s.len >= MIN_STRETCH).collect();
+    model.sampling = Some(VariableSampling {
+        stretches: long.len(),
+        intervals: pl.iter().filter(|p| !p.whole).count(),
+        interval_range_s: [dt_min, pl[pl.len() - 1].dt],
+        samples_in_stretches: long.iter().map(|s| s.len).sum(),
+        span_s: span,
+        drift_time_constants_s: drift_components(&model, dt_min).iter().map(|c| c.0).collect(),
+    });
+    let (ll, info) = kalman(&model, r, times);
+    model.n_effective = (var * info).clamp(2.0, n as f64);
+    (model, ll)
+}
+
+/// The minimum of `f` on [lo, hi] by golden sections ([`GOLDEN_STEPS`] of them).
+fn golden(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (lo, hi);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..GOLDEN_STEPS {
+        if fc <= fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc <= fd { c } else { d }
+}
+
+/// The drift part as OU processes (time constant s, variance): from the span down by
+/// [`COMPONENTS_PER_DECADE`] until the drift's power is [`DRIFT_FLOOR`] of the white noise's
+/// at the shortest interval `dt_min`, weights ∝ τ^(β−1) scaled to P(ν) = A·Δ₀·(ν T)^(−β) by
+/// least squares in ln P over the band the components cover.
+fn drift_components(m: &NoiseModel, dt_min: f64) -> Vec<(f64, f64)> {
+    if !(m.drift_amplitude > 0.0) {
+        return vec![];
+    }
+    let span = m.drift_n * m.dt;
+    let target = |nu: f64| m.drift_amplitude * m.dt * (nu * span).powf(-m.drift_beta);
+    let white_psd = m.white_variance.max(1e-3 * m.variance) * dt_min;
+    let ratio = 10f64.powf(1.0 / COMPONENTS_PER_DECADE);
+    let mut taus = vec![];
+    let mut tau = span;
+    while taus.len() < MAX_DRIFT_COMPONENTS && tau >= 0.5 * dt_min {
+        taus.push(tau);
+        if target(1.0 / (std::f64::consts::TAU * tau)) < DRIFT_FLOOR * white_psd && taus.len() >= 2 {
+            break;
+        }
+        tau /= ratio;
+    }
+    let shape = |nu: f64| -> f64 {
+        taus.iter()
+            .map(|&t| 2.0 * t.powf(m.drift_beta - 1.0) * t / (1.0 + (std::f64::consts::TAU * nu * t).powi(2)))
+            .sum()
+    };
+    // the band the components cover: from the lowest resolved frequency to the last corner
+    let (lo, hi) =
+        ((1.0 / span).ln(), (1.0 / (std::f64::consts::TAU * taus[taus.len() - 1])).ln().max((1.0 / span).ln()));
+    const POINTS: usize = 24;
+    let lnc = (0..POINTS)
+        .map(|i| {
+            let nu = (lo + (hi - lo) * i as f64 / (POINTS - 1) as f64).exp();
+            target(nu).ln() - shape(nu).ln()
+        })
+        .sum::<f64>()
+        / POINTS as f64;
+    let c = lnc.exp();
+    taus.iter().map(|&t| (t, c * t.powf(m.drift_beta - 1.0))).collect()
+}
+
+/// The Kalman filter at `times` under the model's parts in time (white per sample, OU, the
+/// drift's relaxations), run on the residuals `r` (their mean taken out: every model fits μ0)
+/// and on a constant 1 at once — the gains do not depend on the data. Returns the
+/// log-likelihood of `r`, −½Σ(ln Sᵢ + vᵢ²/Sᵢ) with innovations vᵢ of variance Sᵢ, and 1ᵀΣ⁻¹1.
+fn kalman(m: &NoiseModel, r: &[f64], times: &[f64]) -> (f64, f64) {
+    const K: usize = MAX_DRIFT_COMPONENTS + 1;
+    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
+    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
+    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
+        parts.push((m.ar1_tau_s, m.ar1_variance));
+    }
+    let k = parts.len().min(K);
+    let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
+    let mean = r.iter().sum::<f64>() / r.len().max(1) as f64;
+    // two state means, for r and for the constant; one covariance
+    let (mut x, mut x1) = ([0.0; K], [0.0; K]);
+    let mut p = [[0.0; K]; K];
+    for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
+        p[i][i] = s2;
+    }
+    let (mut ll, mut info) = (0.0, 0.0);
+    let mut f = [0.0; K];
+    let mut ph = [0.0; K];
+    for (i, (&ri, &t)) in r.iter().zip(times).enumerate() {
+        if i > 0 {
+            let d = t - times[i - 1];
+            for c in 0..k {
+                f[c] = (-d / parts[c].0).exp();
+                x[c] *= f[c];
+                x1[c] *= f[c];
+            }
+            for a in 0..k {
+                for b in 0..k {
+                    p[a][b] *= f[a] * f[b];
+                }
+                p[a][a] += parts[a].1 * (1.0 - f[a] * f[a]);
+            }
+        }
+        let mut s = r_white;
+        for a in 0..k {
+            ph[a] = p[a][..k].iter().sum();
+            s += ph[a];
+        }
+        let s = s.max(1e-300);
+        let v = ri - mean - x[..k].iter().sum::<f64>();
+        let v1 = 1.0 - x1[..k].iter().sum::<f64>();
+        ll -= 0.5 * (s.ln() + v * v / s);
+        info += v1 * v1 / s;
+        for a in 0..k {
+            x[a] += ph[a] / s * v;
+            x1[a] += ph[a] / s * v1;
+            for b in 0..k {
+                p[a][b] -= ph[a] * ph[b] / s;
+            }
+        }
+    }
+    (ll, info)
+}
+
+/// Whitens vectors at `times` under the model's parts in time (white, OU, the drift's
+/// relaxations; a model fitted in sample index read in time, its AR(1) part as the OU of
+/// time constant `ar1_tau_s`): each vector x becomes its Kalman innovations over their
+/// standard deviations, so that xᵀΣ⁻¹y is the dot product of the whitened x and y. The white
+/// part's variance at sample i is `white_scale[i]` times the model's (a point standing for the
+/// mean of c samples: 1/c). Unlike the likelihood, the mean is kept: a constant offset
+/// between two models' predictions is information.
+pub fn whiten(m: &NoiseModel, times: &[f64], white_scale: &[f64], xs: &mut [Vec<f64>]) {
+    const K: usize = MAX_DRIFT_COMPONENTS + 1;
+    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
+    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
+    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
+        parts.push((m.ar1_tau_s, m.ar1_variance));
+    }
+    let k = parts.len().min(K);
+    let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
+    let nv = xs.len();
+    let mut x = vec![[0.0; K]; nv];
+    let mut p = [[0.0; K]; K];
+    for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
+        p[i][i] = s2;
+    }
+    let mut f = [0.0; K];
+    let mut ph = [0.0; K];
+    for (i, &t) in times.iter().enumerate() {
+        if i > 0 {
+            let d = (t - times[i - 1]).max(0.0);
+            for c in 0..k {
+                f[c] = (-d / parts[c].0).exp();
+            }
+            for xv in x.iter_mut() {
+                for c in 0..k {
+                    xv[c] *= f[c];
+                }
+            }
+            for a in 0..k {
+                for b in 0..k {
+                    p[a][b] *= f[a] * f[b];
+                }
+                p[a][a] += parts[a].1 * (1.0 - f[a] * f[a]);
+            }
+        }
+        let mut s = r_white * white_scale.get(i).copied().unwrap_or(1.0);
+        for a in 0..k {
+            ph[a] = p[a][..k].iter().sum();
+            s += ph[a];
+        }
+        let s = s.max(1e-300);
+        let sd = s.sqrt();
+        for (xv, v) in x.iter_mut().zip(xs.iter_mut()) {
+            let innov = v[i] - xv[..k].iter().sum::<f64>();
+            v[i] = innov / sd;
+            for a in 0..k {
+                xv[a] += ph[a] / s * innov;
+            }
+        }
+        for a in 0..k {
+            for b in 0..k {
+                p[a][b] -= ph[a] * ph[b] / s;
+            }
+        }
+    }
+}
+
+/// The exact Gaussian log-likelihood of residuals `r` at `times` under a model in time.
+pub(super) fn log_likelihood(m: &NoiseModel, r: &[f64], times: &[f64]) -> f64 {
+    if r.len() < 2 {
+        return 0.0;
+    }
+    kalman(m, r, times).0
+}
+
+/// Noise at `times` under a model in time: white per sample, the OU part by its recursion,
+/// the drift on a uniform grid in time (at most [`MAX_DRIFT_GRID`] points) interpolated.
+pub(super) fn synthesize<R: rand::Rng + ?Sized>(m: &NoiseModel, times: &[f64], rng: &mut R) -> Vec<f64> {
+    let n = times.len();
+    let mut e: Vec<f64> = (0..n)
+        .map(|_| {
+            let z: f64 = StandardNormal.sample(rng);
+            m.white_variance.sqrt() * z
+        })
+        .collect();
+    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
+        let s = m.ar1_variance.sqrt();
+        let z0: f64 = StandardNormal.sample(rng);
+        let mut o = s * z0;
+        for i in 0..n {
+            if i > 0 {
+                let phi = (-(times[i] - times[i - 1]) / m.ar1_tau_s).exp();
+                let z: f64 = StandardNormal.sample(rng);
+                o = phi * o + s * (1.0 - phi * phi).sqrt() * z;
+            }
+            e[i] += o;
+        }
+    }
+    if m.drift_amplitude > 0.0 && n > 1 {
+        let span = times[n - 1] - times[0];
+        let points = ((span / m.dt).ceil() as usize + 2).min(MAX_DRIFT_GRID);
+        let step = span / (points - 1) as f64;
+        // the drift per grid sample: (Δ₀/step)·A at the lowest frequency, 1/(span) Hz
+        let drift = NoiseModel {
+            white_variance: 0.0,
+            ar1_variance: 0.0,
+            drift_amplitude: m.drift_amplitude * m.dt / step,
+            drift_n: span / step,
+            sampling: None,
+            ..m.clone()
+        };
+        let grid = drift.synthesize(points, rng);
+        for (x, &t) in e.iter_mut().zip(times) {
+            let u = ((t - times[0]) / step).clamp(0.0, (points - 1) as f64);
+            let k = (u.floor() as usize).min(points - 2);
+            let w = u - k as f64;
+            *x += grid[k] * (1.0 - w) + grid[k + 1] * w;
+        }
+    }
+    e
+}
+
+#[cfg(test)]
+#[path = "sampling_tests.rs"]
+mod tests;

@@ -1,0 +1,70 @@
+//! Truths outside the one-step menu (issue 38), on records of the independent generator
+//! (`benches/detection/generate.py --outside-tests`, scipy Radau; tests/data/outside/SOURCE.md):
+//! a law of the library is named as the law, with its own parameter measured; a law no library
+//! has is `unexplained`, never a confident wrong cause. Each record: one state, a = 0.008,
+//! b = 0.011, Dc = 5 µm, white noise 1.5e-4 (PRZ: plus AR(1) of 1e-4, τ = 2 s); steps of
+//! 0.5–2 decades and holds.
+//!
+//! On the main before issue 38 the PRZ, Nagata and one-state-mixture records could not be named
+//! with their law (no such candidate) and the power-law-aging record was named
+//! `cutoff_velocity` (a confident wrong cause); `Cause::Unexplained` did not exist.
+
+use rsf_diagnose::{AdequacyVerdict, Cause, DiagnoseOptions, Diagnosis, diagnose};
+use rsf_fit::data::{ReadOptions, read_record};
+use rsf_fit::fit::FitOptions;
+use rsf_fit::segment::{SegmentOptions, detect};
+
+fn diagnosed(name: &str, k: f64) -> Diagnosis {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../tests/data/outside/{name}.csv"));
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let fit = FitOptions::new(vec![rsf_laws::law_by_name("slip", |_| None).unwrap()], k);
+    let d = diagnose(&rec, &segs, &DiagnoseOptions::new(fit)).unwrap();
+    println!("{name}: {} — {}", d.cause, d.reason);
+    d
+}
+
+/// PRZ truth with steps and holds of 10–100 s: the evolution law, named as PRZ, and the PRZ
+/// model explains the events to the noise level. (Before: `none`, its misfit read as drift.)
+#[test]
+fn a_prz_truth_is_named_as_prz() {
+    let d = diagnosed("prz_holds", 0.02);
+    assert_eq!(d.cause, Cause::EvolutionLaw);
+    assert_eq!(d.effect.law.as_deref(), Some("prz"));
+    assert_eq!(d.adequacy.verdict, AdequacyVerdict::Adequate);
+}
+
+/// One state healing by 0.3 Aging + 0.7 Slip, holds to 10⁴ s: the one-state mixture with its
+/// aging share w measured (truth 0.3). (Before: a cut-off velocity, a mimic.)
+#[test]
+fn a_one_state_mixture_is_named_with_its_share() {
+    let d = diagnosed("mix1_holds", 0.02);
+    assert_eq!(d.cause, Cause::EvolutionLaw);
+    assert_eq!(d.effect.law.as_deref(), Some("aging-slip"));
+    let w = d.effect.w.unwrap();
+    assert!((w - 0.3).abs() < 0.03, "w = {w}");
+}
+
+/// Nagata's law with c = 2: named as Nagata's, c measured.
+#[test]
+fn a_nagata_truth_is_named_with_its_c() {
+    let d = diagnosed("nagata", 0.01);
+    assert_eq!(d.cause, Cause::EvolutionLaw);
+    assert_eq!(d.effect.law.as_deref(), Some("nagata"));
+    let c = d.effect.c.unwrap();
+    assert!((c - 2.0).abs() < 0.2, "c = {c}");
+}
+
+/// Power-law aging dθ/dt = 1 − Ω^1.5, a law no library has: not a confident wrong cause. The
+/// best extension (a cut-off) still misfits where the events are, so the verdict is
+/// `unexplained`, with the cut-off as the best partial extension and its events named.
+#[test]
+fn a_law_outside_the_library_is_unexplained() {
+    let d = diagnosed("power_aging", 0.02);
+    assert_eq!(d.cause, Cause::Unexplained);
+    assert_eq!(d.adequacy.verdict, AdequacyVerdict::Inadequate);
+    assert!(d.partial.is_some(), "the best partial extension is reported");
+    assert!(d.gain.is_some() && d.extended.is_some());
+    assert!(!d.adequacy.events.is_empty() && d.adequacy.events[0].ratio > 2.0);
+    assert!(d.reason.starts_with("not explained"), "{}", d.reason);
+}

@@ -1,0 +1,153 @@
+//! The diagnosis report reads like a scientist's: a plain-language verdict first, tables of
+//! formatted numbers with units, candidates in a real table, no raw JSON, no 15-digit floats.
+//!
+//! `RSF_REPORT_OUT=/tmp/report.html cargo test --release -p rsf-report --test report` also writes
+//! the page (to look at it, e.g. with `docs/diagnose/screenshot.sh`).
+
+use rsf_core::{Model, StateVariable};
+use rsf_diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use rsf_fit::fit::{FitOptions, LoadingMode};
+use rsf_fit::segment::{SegmentOptions, detect};
+use rsf_fit::synthetic::{Noise, record};
+use rsf_laws::{Slip, law_by_name};
+use rsf_report::{diagnosis_html, fit_svg};
+
+/// A short step-and-hold record with a slip trend `g` (per µm), diagnosed with a Slip baseline.
+fn diagnosis(g: f64) -> Diagnosis {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.005).with_state(StateVariable::new(Slip, 0.013, 8.0)).with_slip_trend(g);
+    let protocol = [
+        (1.0, 60.0, 0.2),
+        (10.0, 10.0, 0.2),
+        (1.0, 60.0, 0.2),
+        (0.1, 150.0, 1.0),
+        (1.0, 60.0, 0.2),
+        (0.0, 100.0, 1.0),
+        (1.0, 60.0, 0.2),
+        (0.0, 300.0, 2.0),
+        (1.0, 60.0, 0.2),
+    ];
+    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 0.0 }, 11).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.005);
+    fit.loading = LoadingMode::Protocol;
+    let mut o = DiagnoseOptions::new(fit);
+    o.null_replicates = 0;
+    diagnose(&rec, &segs, &o).unwrap()
+}
+
+/// The text a reader sees: tags, style and inline SVG removed.
+fn visible(html: &str) -> String {
+    let mut s = html.to_string();
+    for (open, close) in [("<style", "</style>"), ("<svg", "</svg>")] {
+        while let Some(a) = s.find(open) {
+            let b = s[a..].find(close).map_or(s.len(), |b| a + b + close.len());
+            s.replace_range(a..b, " ");
+        }
+    }
+    let mut out = String::new();
+    let mut in_tag = false;
+    for c in s.chars() {
+        match c {
+            '<' => in_tag = true,
+            '>' if in_tag => {
+                in_tag = false;
+                out.push(' ');
+            }
+            _ if !in_tag => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The text of the charts' labels, titles and legends (`<text …>…</text>` of the inline SVG).
+fn chart_text(html: &str) -> String {
+    let mut out = String::new();
+    let mut rest = html;
+    while let Some(a) = rest.find("<text") {
+        let after = &rest[a..];
+        let (Some(open_end), Some(close)) = (after.find('>'), after.find("</text>")) else { break };
+        out += &after[open_end + 1..close];
+        out.push('\n');
+        rest = &after[close..];
+    }
+    out
+}
+
+/// Numbers printed with nine or more decimals (`2.833121483939129e-6`, `0.60000000001`).
+fn long_floats(text: &str) -> Vec<String> {
+    let b: Vec<char> = text.chars().collect();
+    let mut hits = Vec::new();
+    for i in 1..b.len() {
+        if b[i] == '.' && b[i - 1].is_ascii_digit() {
+            let n = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
+            if n >= 9 {
+                hits.push(b[i.saturating_sub(3)..(i + 1 + n).min(b.len())].iter().collect());
+            }
+        }
+    }
+    hits
+}
+
+#[test]
+fn the_report_is_something_a_scientist_would_show() {
+    let d = diagnosis(1e-5);
+    println!("cause {}: {}", d.cause, d.reason);
+    let html = diagnosis_html(&d, "synthetic <slip trend>.txt");
+    if let Ok(p) = std::env::var("RSF_REPORT_OUT") {
+        std::fs::write(&p, &html).unwrap();
+        std::fs::write(std::path::Path::new(&p).with_extension("svg"), fit_svg(&d.baseline, "baseline").unwrap())
+            .unwrap();
+    }
+    assert!(html.starts_with("<!doctype html>") && !html.contains("src=\"http") && html.contains("<svg"));
+    assert!(html.contains("synthetic &lt;slip trend&gt;.txt"), "the name is escaped");
+    // the noise model, with the residual spectrum against the fitted model's
+    assert!(html.contains("<h2>Noise</h2>") && html.contains("residual spectrum of the baseline"), "no noise section");
+    assert!(html.contains("white noise rms") && html.contains("n_eff for a slow effect"));
+    let text = visible(&html);
+    // the verdict is the first paragraph, in words
+    let body = &html[html.find("<body>").unwrap()..];
+    let first_p = body.find("<p").unwrap();
+    assert!(body[first_p..].starts_with("<p class=\"verdict"), "{}", &body[first_p..first_p + 80]);
+    let verdict = &body[first_p..first_p + body[first_p..].find("</p>").unwrap()];
+    if d.cause.as_str() == "none" {
+        assert!(verdict.contains("explains the record"), "{verdict}");
+    } else {
+        assert!(verdict.contains("The data need") && verdict.contains("ΔBIC"), "{verdict}");
+    }
+    assert_eq!(d.cause.as_str(), "slip_trend", "{}", d.reason);
+    assert!(verdict.contains("slip trend") && verdict.contains("×10⁻⁶"), "g formatted: {verdict}");
+    // candidates in a real table, one row each
+    let cand = &html[html.find("<h2>Candidates</h2>").expect("a candidates section")..];
+    let cand = &cand[..cand.find("</table>").unwrap()];
+    assert!(cand.contains("<table"));
+    assert_eq!(cand.matches("<tr").count(), d.candidates.len() + 1, "a header and a row per candidate");
+    // no raw JSON, no unformatted floats, in the text or in the charts' labels
+    let labels = chart_text(&html);
+    assert!(labels.contains("friction μ") && labels.contains("load-point displacement (µm)"), "{labels}");
+    assert!(!text.contains("{\"") && !text.contains("\":"), "raw JSON in the report");
+    let long = long_floats(&(text.clone() + &labels));
+    assert!(long.is_empty(), "unformatted numbers: {long:?}");
+    // units where they belong
+    assert!(text.contains("µm") && text.contains("/µm"));
+}
+
+#[test]
+fn with_nothing_hidden_the_verdict_says_the_baseline_stands() {
+    let d = diagnosis(0.0);
+    assert_eq!(d.cause.as_str(), "none", "{}", d.reason);
+    let html = diagnosis_html(&d, "no effect");
+    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
+    let verdict = &body[..body.find("</p>").unwrap()];
+    println!("{verdict}");
+    assert!(verdict.contains("explains the record") && verdict.contains("best was"), "{verdict}");
+    assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
+    assert!(!html.contains("<h2>Effect</h2>"), "no effect table without an effect");
+}
+
+#[test]
+fn long_floats_are_caught() {
+    assert_eq!(long_floats("g = 2.833121483939129e-6, k = 0.0073").len(), 1);
+    assert!(long_floats("0.00965 ± 0.00012, 1.23456789").is_empty());
+    assert_eq!(visible("<p>a<b>b</b></p><svg><text>x</text></svg>").split_whitespace().collect::<String>(), "ab");
+}
