@@ -15,6 +15,6 @@ mod manifest;
 mod row;
 mod work;
 
-pub use manifest::{Column, Entry, RecordOptions, folder_entries, read_manifest};
+pub use manifest::{Column, Entry, RecordOptions, folder_entries, read_manifest, register_law_files};
 pub use row::{Cell, CellKind, Param, Row, Status, SummaryTable, summary_csv, summary_table};
 pub use work::{FIT_STARTS, Job, Outcome, run_entry};

@@ -34,6 +34,11 @@ pub struct RecordOptions {
     pub t_min: Option<f64>,
     /// Use only rows with time ≤ this, s.
     pub t_max: Option<f64>,
+    /// A law file (TOML; docs/laws.md) registered before this record runs, so that `law` and
+    /// `baseline` may name its law: a path relative to the manifest, made absolute when read.
+    /// A worker of another process (Dask) registers it again from here.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub law_file: Option<PathBuf>,
     /// Evolution law of the fit (`rsf fit --law`).
     pub law: Option<LawName>,
     /// Baseline law of the diagnosis: any registered law (`slip` by default).
@@ -69,6 +74,7 @@ impl RecordOptions {
             time_unit: pick(&self.time_unit, &d.time_unit),
             t_min: pick(&self.t_min, &d.t_min),
             t_max: pick(&self.t_max, &d.t_max),
+            law_file: pick(&self.law_file, &d.law_file),
             law: pick(&self.law, &d.law),
             baseline: pick(&self.baseline, &d.baseline),
             loading: pick(&self.loading, &d.loading),
@@ -115,7 +121,7 @@ pub enum Column {
 }
 
 /// The option columns, named as the fields of [`RecordOptions`].
-pub const OPTION_COLUMNS: [&str; 18] = [
+pub const OPTION_COLUMNS: [&str; 19] = [
     "stiffness",
     "time_col",
     "lp_col",
@@ -127,6 +133,7 @@ pub const OPTION_COLUMNS: [&str; 18] = [
     "time_unit",
     "t_min",
     "t_max",
+    "law_file",
     "law",
     "baseline",
     "loading",
@@ -192,6 +199,7 @@ fn set(o: &mut RecordOptions, col: &str, cell: &str) -> Result<(), String> {
         "time_unit" => o.time_unit = word(cell)?,
         "t_min" => o.t_min = Some(num()?),
         "t_max" => o.t_max = Some(num()?),
+        "law_file" => {} // read first, with the manifest's folder (read_manifest)
         "law" => o.law = word(cell)?,
         "baseline" => o.baseline = word(cell)?,
         "loading" => o.loading = word(cell)?,
@@ -234,6 +242,15 @@ pub fn read_manifest(path: &Path) -> Result<Vec<Entry>, String> {
             return Err(format!("{}: line {line}: {} cells, the header has {}", path.display(), row.len(), cols.len()));
         }
         let (mut name, mut options, mut meta) = (String::new(), RecordOptions::default(), vec![]);
+        // a row's law file first: its law is then a name for the row's `law` and `baseline`
+        if let Some(k) = cols.iter().position(|c| *c == Column::Option("law_file")) {
+            let cell = &row[k];
+            if !cell.is_empty() {
+                let file = dir.join(cell);
+                rsf_laws::text_law::register_file(&file).map_err(|e| at(line, "law_file", e))?;
+                options.law_file = Some(std::path::absolute(&file).unwrap_or(file));
+            }
+        }
         for (col, cell) in cols.iter().zip(row.iter()) {
             match col {
                 Column::File => name = cell.to_string(),
@@ -255,6 +272,19 @@ pub fn read_manifest(path: &Path) -> Result<Vec<Entry>, String> {
         return Err(format!("{}: no records listed", path.display()));
     }
     Ok(entries)
+}
+
+/// Registers the law files an entry's or the defaults' JSON names (`law_file`, at the top or
+/// under `options`) before the JSON is read into typed options, whose law names must then be
+/// known: what a worker in another process (Dask) does first.
+pub fn register_law_files(json: &str) -> Result<(), String> {
+    let v: serde_json::Value = serde_json::from_str(json).map_err(|e| e.to_string())?;
+    for file in [&v["law_file"], &v["options"]["law_file"]] {
+        if let Some(f) = file.as_str() {
+            rsf_laws::text_law::register_file(Path::new(f))?;
+        }
+    }
+    Ok(())
 }
 
 /// The records of a folder: its `.csv`, `.txt`, `.tsv` and `.dat` files (not hidden, not in

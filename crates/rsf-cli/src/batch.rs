@@ -34,6 +34,7 @@ fn defaults(a: &BatchArgs) -> Result<RecordOptions> {
         time_unit: a.time_unit,
         t_min: None,
         t_max: None,
+        law_file: None, // --law-file registers for the whole run
         law: a.law.as_deref().map(str::parse).transpose().map_err(anyhow::Error::msg)?,
         baseline: a.baseline.as_deref().map(str::parse).transpose().map_err(anyhow::Error::msg)?,
         loading: a.loading,

@@ -1,17 +1,11 @@
 //! `rsf laws` (the registry's laws and their parameters) and `rsf check-law` (the conformance
 //! kit on a law file or a registered law).
 
-use anyhow::{Result, bail};
-use rsf_laws::registry::{self, LawEntry, Origin, Start};
-use rsf_laws::{Aging, AgingSlip, KatoTullis, Law, Nagata, Prz, Slip};
-use rsf_testkit::{Claims, check};
+use anyhow::Result;
+use rsf_laws::registry::{self, Origin, Start};
+use rsf_testkit::Claims;
 use std::fmt::Write;
 use std::path::Path;
-
-/// The unit a law file gives a velocity parameter (the kit rescales it with time and length).
-const VELOCITY_UNIT: &str = "µm/s";
-/// The unit a law file gives a length parameter (the kit rescales it with length).
-const LENGTH_UNIT: &str = "µm";
 
 /// The registry's laws, one line each, with their parameters.
 pub(crate) fn list() -> String {
@@ -58,37 +52,6 @@ pub(crate) fn check_law(law: &str, cases: Option<u32>, dc_over_v: bool) -> Resul
     if let Some(n) = cases {
         claims = claims.cases(n);
     }
-    let report = match entry.builtin() {
-        Some(l) => check_builtin(l, claims),
-        None => check_text(&entry, claims)?,
-    };
+    let report = rsf_testkit::check_entry(&entry, claims).map_err(anyhow::Error::msg)?;
     report.map(|r| r.to_string()).map_err(|f| anyhow::anyhow!("{f}"))
-}
-
-fn check_text(entry: &LawEntry, mut claims: Claims) -> Result<Result<rsf_testkit::Report, rsf_testkit::Failure>> {
-    let Some(law) = rsf_laws::text_law::law_at_starts(entry) else {
-        bail!(
-            "law `{}` was registered from Rust or Python: check it in its own tests with rsf_testkit::check",
-            entry.name()
-        );
-    };
-    for p in entry.parameters() {
-        if p.unit == VELOCITY_UNIT {
-            claims = claims.velocity_parameter(p.name);
-        } else if p.unit == LENGTH_UNIT {
-            claims = claims.length_parameter(p.name);
-        }
-    }
-    Ok(check(&law, &claims))
-}
-
-fn check_builtin(l: Law, claims: Claims) -> Result<rsf_testkit::Report, rsf_testkit::Failure> {
-    match l {
-        Law::Aging => check(&Aging, &claims),
-        Law::Slip => check(&Slip, &claims),
-        Law::Prz => check(&Prz, &claims),
-        Law::Nagata => check(&Nagata { c: 1.0 }, &claims),
-        Law::AgingSlip => check(&AgingSlip { w: 0.5 }, &claims),
-        Law::KatoTullis => check(&KatoTullis { vc: 0.01 }, &claims.velocity_parameter("vc")),
-    }
 }

@@ -90,6 +90,19 @@ fn a_manifest_names_a_law_from_a_law_file() {
     // without the file the manifest's law is an error naming the line and column
     let o = rsf(&["batch", manifest.to_str().unwrap(), "--out", dir.path().join("o2").to_str().unwrap(), "--fit"]);
     assert!(!o.status.success() || text(&o).contains("unknown law"), "{}", text(&o));
+    // the manifest itself names the law file (relative to the manifest): no --law-file needed
+    std::fs::copy(&law, dir.path().join("power.toml")).unwrap();
+    std::fs::write(&manifest, "file,stiffness,law_file,law\npa.csv,0.02,power.toml,power-aging\n").unwrap();
+    let out3 = dir.path().join("o3");
+    let o = rsf(&["batch", manifest.to_str().unwrap(), "--out", out3.to_str().unwrap(), "--fit"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let summary = std::fs::read_to_string(out3.join("summary.csv")).unwrap();
+    assert!(summary.contains("power-aging"), "{summary}");
+    // a law file that is not there: the manifest's line and column
+    std::fs::write(&manifest, "file,stiffness,law_file,law\npa.csv,0.02,nowhere.toml,power-aging\n").unwrap();
+    let o = rsf(&["batch", manifest.to_str().unwrap(), "--out", dir.path().join("o4").to_str().unwrap(), "--fit"]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("line 2, column `law_file`") && text(&o).contains("nowhere.toml"), "{}", text(&o));
 }
 
 /// `rsf diagnose --baseline` takes any registered law (issue 39; on the main before it,

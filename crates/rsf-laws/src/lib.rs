@@ -153,6 +153,10 @@ impl StateLaw for KatoTullis {
             _ => Err(format!("law `kato-tullis` has no parameter `{name}`")),
         }
     }
+    /// ∂/∂Vc = e^(−V/Vc) V/Vc², exact.
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64> {
+        (name == "vc").then(|| (-s.v / self.vc).exp() * s.v / (self.vc * self.vc))
+    }
     fn validate(&self) -> Result<(), String> {
         if self.vc > 0.0 && self.vc.is_finite() {
             Ok(())
@@ -241,6 +245,10 @@ impl StateLaw for Nagata {
             _ => Err(format!("law `nagata` has no parameter `{name}`")),
         }
     }
+    /// ∂/∂c = −θ (dτ/dt) / b, exact.
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64> {
+        (name == "c").then(|| -s.theta * s.stress_rate / s.b)
+    }
     fn validate(&self) -> Result<(), String> {
         if self.c >= 0.0 && self.c.is_finite() {
             Ok(())
@@ -292,6 +300,11 @@ impl StateLaw for AgingSlip {
             }
             _ => Err(format!("law `aging-slip` has no parameter `{name}`")),
         }
+    }
+    /// ∂/∂w = (1 − Ω) + Ω ln Ω, exact.
+    fn parameter_derivative(&self, name: &str, s: &StateArgs<f64>) -> Option<f64> {
+        let omega = s.v * s.theta / s.dc;
+        (name == "w").then(|| 1.0 - omega + omega * omega.ln())
     }
     fn validate(&self) -> Result<(), String> {
         if (0.0..=1.0).contains(&self.w) {

@@ -18,6 +18,7 @@ pub fn batch_entries(path: &str) -> PyResult<String> {
 /// Checks batch-wide options (JSON of the manifest's option columns); the error names the option.
 #[pyfunction]
 pub fn batch_check_options(defaults_json: &str) -> PyResult<()> {
+    rsf_batch::register_law_files(defaults_json).map_err(value_error)?;
     let d: RecordOptions = serde_json::from_str(defaults_json).map_err(value_error)?;
     d.check().map_err(|(c, e)| value_error(format!("{c}: {e}")))
 }
@@ -34,6 +35,9 @@ pub fn batch_row(
     diagnose: bool,
     threads: usize,
 ) -> PyResult<String> {
+    // a worker of another process knows only the built-in laws until it reads the law files
+    rsf_batch::register_law_files(entry_json).map_err(value_error)?;
+    rsf_batch::register_law_files(defaults_json).map_err(value_error)?;
     let e: Entry = serde_json::from_str(entry_json).map_err(value_error)?;
     let d: RecordOptions = serde_json::from_str(defaults_json).map_err(value_error)?;
     let row = py.detach(|| run_entry(&e, &d, Job { fit, diagnose }, threads).row);

@@ -52,3 +52,41 @@ pub fn register_py_law(
     registry::register(entry).map_err(value_error)?;
     Ok(name.to_string())
 }
+
+/// Runs rsf's conformance kit (`rsf_testkit`) on a registered law by name, or on a law file:
+/// returns the report's text; a property that fails raises ValueError with the property, the
+/// reason and the smallest input found. A Python function's derivatives are central
+/// differences, so its `jacobian` is checked against the kit's own differences alone.
+#[pyfunction]
+#[pyo3(signature = (law, cases=None, steady_state_dc_over_v=false))]
+pub fn check_law(py: Python<'_>, law: &str, cases: Option<u32>, steady_state_dc_over_v: bool) -> PyResult<String> {
+    let path = std::path::Path::new(law);
+    let entry = if law.ends_with(".toml") || path.exists() {
+        rsf_laws::text_law::load(path).map_err(value_error)?
+    } else {
+        registry::find(law).map_err(value_error)?
+    };
+    let mut claims = rsf_testkit::Claims::new();
+    if steady_state_dc_over_v {
+        claims = claims.steady_state_dc_over_v();
+    }
+    if let Some(n) = cases {
+        claims = claims.cases(n);
+    }
+    let report = match entry.origin() {
+        Origin::Python => {
+            let built = entry.with_starting_values().map_err(value_error)?;
+            let Some(pylaw) = built.as_any().downcast_ref::<PyLaw>() else {
+                return Err(value_error(format!("law `{}` is not a Python function", entry.name())));
+            };
+            let claims = rsf_testkit::registered::claims_from_units(&entry, claims).derivatives_by_differences();
+            // the kit calls the function many times: let other Python threads run between calls
+            let pylaw = pylaw.clone();
+            py.detach(|| rsf_testkit::check(&pylaw, &claims))
+        }
+        Origin::BuiltIn(_) | Origin::Rust | Origin::TextFile(_) => {
+            py.detach(|| rsf_testkit::check_entry(&entry, claims)).map_err(value_error)?
+        }
+    };
+    report.map(|r| r.to_string()).map_err(|f| value_error(f.to_string()))
+}

@@ -246,6 +246,7 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(laws::register_law_file, m)?)?;
     m.add_function(wrap_pyfunction!(laws::law_names, m)?)?;
     m.add_function(wrap_pyfunction!(laws::register_py_law, m)?)?;
+    m.add_function(wrap_pyfunction!(laws::check_law, m)?)?;
     m.add("SolveError", m.py().get_type::<SolveError>())?;
     // the built-in law names, from the one registry (rsf_laws::Law)
     m.add("LAW_NAMES", rsf_laws::Law::NAMES.to_vec())?;

@@ -82,3 +82,16 @@ def test_paths_with_options_given_once(lab):
         rsf.fit_many(paths, stiffness=0.01, loading="recrd")
     df = rsf.fit_many(paths, lp_col="lp_um")         # no stiffness anywhere: each record says so
     assert list(df["status"]) == ["options_invalid"] * 2
+
+
+def test_a_law_file_in_the_manifest_reaches_dask_workers(tmp_path, client):
+    # issue 39: a manifest's `law_file` column registers its law in this process and, again,
+    # in each worker process, which knows only the built-in laws otherwise
+    shutil.copy(os.path.join(ROOT, "tests", "data", "outside", "power_aging.csv"), tmp_path / "pa.csv")
+    shutil.copy(os.path.join(ROOT, "examples", "laws", "power_aging.toml"), tmp_path / "power.toml")
+    (tmp_path / "manifest.csv").write_text("file,stiffness,law_file,law\npa.csv,0.02,power.toml,power-aging\n")
+    df = rsf.fit_many(tmp_path / "manifest.csv", client=client)
+    assert list(df["status"]) == ["ok"], df.get("error")
+    assert df.loc[0, "laws"] == "power-aging"
+    n = [c for c in df.columns if c.startswith("n1")]
+    assert n and abs(df.loc[0, "n1"] - 1.5) < 0.01, list(df.columns)

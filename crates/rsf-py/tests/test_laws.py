@@ -173,3 +173,59 @@ def test_load_protocol_keeps_a_laws_own_parameters():
     out = rsf.simulate(setup)
     ref = rsf.simulate(os.path.join(ROOT, "examples", "power_aging_steps.toml"))
     assert np.array_equal(out.mu, ref.mu)
+
+
+BLEND = """name = "blend-py"
+words = "power-law aging blended with the Slip law"
+theta_rate = "w*(1 - omega^n) - (1 - w)*omega*ln(omega)"
+
+[[parameter]]
+name = "n"
+range = [0.2, 5.0]
+start = 1.0
+
+[[parameter]]
+name = "w"
+range = [0.0, 1.0]
+start = 0.5
+"""
+
+
+def test_a_law_with_two_parameters_has_both_fitted_and_is_a_baseline(tmp_path):
+    # issue 39: every own parameter is fitted (on the main before it, only the first: w stayed
+    # at its start) and a diagnosis takes any registered law as its baseline
+    path = tmp_path / "blend.toml"
+    path.write_text(BLEND)
+    assert rsf.load_law(str(path)) == "blend-py"
+    m = rsf.Model(mu0=0.6, v0=1.0, a=0.010, stiffness=0.01,
+                  states=[rsf.State(law="blend-py", b=0.014, dc=10.0, params={"n": 1.6, "w": 0.7})])
+    p = rsf.Protocol(v_init=1.0, segments=[(1.0, {"duration": 80.0}), (10.0, {"duration": 20.0}),
+                                           (1.0, {"duration": 120.0}), (0.0, {"duration": 30.0}),
+                                           (1.0, {"duration": 100.0}), (0.0, {"duration": 300.0}),
+                                           (1.0, {"duration": 120.0})])
+    s = rsf.simulate(m, p, dt=0.1, method="implicit")
+    mu = s.mu + np.random.default_rng(3).normal(0.0, 2e-4, s.mu.size)
+    f = rsf.fit(time=s.time_s, load_point=s.load_point_um, mu=mu, stiffness=0.01, law="blend-py")
+    lp = f.params["law_params"]
+    for name, truth in (("n1", 1.6), ("w1", 0.7)):
+        assert name in f.stderr, f.stderr
+        assert abs(lp[name] - truth) < 4 * max(f.stderr[name], 1e-3), (name, lp[name], f.stderr[name])
+    d = rsf.diagnose(time=s.time_s, load_point=s.load_point_um, mu=mu, stiffness=0.01, baseline="blend-py")
+    assert d.cause == "none", d.cause
+
+
+def test_check_law_runs_the_kit_on_files_names_and_functions():
+    # issue 39: the conformance kit for text and Python laws, from Python as from `rsf check-law`
+    rep = rsf.check_law(POWER_FILE, cases=32, steady_state_dc_over_v=True)
+    assert "parameter_derivative: passed" in rep, rep
+    name = rsf.register_law("power-aging-kit", power_aging, parameters={"n": {"range": (0.2, 5.0), "start": 1.0}},
+                            candidate=False)
+    rep = rsf.check_law(name, cases=16, steady_state_dc_over_v=True)
+    for prop in ("jacobian: passed", "parameter_round_trip: passed", "integrators_agree: passed"):
+        assert prop in rep, rep
+
+    def off_by_a_tenth(v, theta, dc, b, stress_rate):
+        return 1.1 - v * theta / dc
+
+    with pytest.raises(ValueError, match="steady_state"):
+        rsf.check_law(off_by_a_tenth, cases=16, steady_state_dc_over_v=True)

@@ -43,11 +43,14 @@
 #![forbid(unsafe_code)]
 
 mod pointwise;
+pub mod registered;
 mod solver;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestError, TestRng, TestRunner};
 use rsf_core::StateLaw;
 use std::fmt;
+
+pub use registered::check_entry;
 
 /// Inputs per property by default (solver-level properties use an eighth of it, at least 8).
 pub const DEFAULT_CASES: u32 = 256;
@@ -103,6 +106,10 @@ pub struct Claims {
     pub ranges: Ranges,
     /// Inputs per pointwise property.
     pub cases: u32,
+    /// The law's [`jet`](StateLaw::jet) is central differences of its rate, not dual numbers
+    /// (a Python function): `jacobian` checks it against the kit's own central differences
+    /// alone.
+    pub derivatives_by_differences: bool,
 }
 
 impl Default for Claims {
@@ -120,7 +127,13 @@ impl Claims {
             length_parameters: vec![],
             ranges: Ranges::default(),
             cases: DEFAULT_CASES,
+            derivatives_by_differences: false,
         }
+    }
+    /// Says the law's derivatives are central differences of its rate (a Python function).
+    pub fn derivatives_by_differences(mut self) -> Self {
+        self.derivatives_by_differences = true;
+        self
     }
     /// Claims θ_ss = s·Dc/V.
     pub fn steady_state_dc_over_v(mut self) -> Self {

@@ -39,7 +39,7 @@ from .batch import diagnose_many, fit_many  # noqa: E402  (many records; Dask)
 __all__ = [
     "State", "Model", "Protocol", "Setup", "load_protocol", "simulate", "read_record", "fit",
     "diagnose", "SimulationResult", "FitResult", "Diagnosis", "SolveError", "LAWS", "fit_many",
-    "diagnose_many", "design", "Design", "load_law", "register_law", "laws",
+    "diagnose_many", "design", "Design", "load_law", "register_law", "laws", "check_law",
 ]
 
 #: Built-in state laws by name.
@@ -76,6 +76,22 @@ def register_law(name: str, theta_rate: ThetaRate, parameters: Optional[Mapping[
     name = _rsf.register_py_law(name, theta_rate, words or name, specs, candidate=candidate)
     _FUNCTION_LAWS[theta_rate] = name
     return name
+
+
+def check_law(law: Union[str, os.PathLike, ThetaRate], cases: Optional[int] = None,
+              steady_state_dc_over_v: bool = False) -> str:
+    """Runs rsf's conformance kit on a law — a registered law's name, a law file (``.toml``)
+    or a Python function (registered as :func:`fit` does, when it is not yet) — as ``rsf
+    check-law`` does, and returns the report (each property: passed on how many inputs, or
+    skipped and why). A property that fails raises ``ValueError`` naming it, why, and the
+    smallest input found. ``steady_state_dc_over_v`` claims θ_ss = Dc/V; ``cases`` is the
+    number of inputs per property (default 256). A Python function's derivatives are central
+    differences: its ``jacobian`` is checked against the kit's own central differences; its
+    parameters are taken at their starts, and a parameter whose ``unit`` is ``"µm/s"`` or
+    ``"µm"`` is rescaled with time and length."""
+    if isinstance(law, os.PathLike):
+        law = os.fspath(law)
+    return _rsf.check_law(_law_name(law), cases, steady_state_dc_over_v)
 
 
 def laws() -> list:

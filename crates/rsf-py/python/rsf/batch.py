@@ -19,7 +19,7 @@ from . import _rsf
 #: The per-record options: the manifest's option columns, also accepted as keyword arguments
 #: (the batch-wide defaults a manifest's cells override).
 OPTIONS = ("stiffness", "time_col", "lp_col", "mu_col", "shear_col", "normal_col", "normal_stress",
-           "disp_unit", "time_unit", "t_min", "t_max", "law", "baseline", "loading", "fit_stiffness",
+           "disp_unit", "time_unit", "t_min", "t_max", "law_file", "law", "baseline", "loading", "fit_stiffness",
            "fit_slip_trend", "drop_invalid", "seed")
 
 PathLike = Union[str, os.PathLike]
@@ -42,6 +42,9 @@ def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progr
     if unknown:
         raise TypeError(f"unknown option(s) {', '.join(unknown)}: use {', '.join(OPTIONS)}")
     defaults = {k: v for k, v in options.items() if v is not None}
+    if "law_file" in defaults:
+        # absolute, so that a worker in another folder or process finds it
+        defaults["law_file"] = os.path.abspath(os.fspath(defaults["law_file"]))
     if stiffness is not None:
         defaults["stiffness"] = float(stiffness)
     dj = json.dumps(defaults)
