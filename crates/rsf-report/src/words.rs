@@ -34,9 +34,13 @@ const SEGMENT_RMS_NOTED: f64 = 2.0;
 
 /// `slip` → `Slip`, `slip+aging` → `Slip + Aging`, `kato-tullis` → `Kato–Tullis`.
 pub(crate) fn law_words(law: &str) -> String {
-    // a user's own law (not in the registry) by its name, capitalised
+    // a registered law by its words ("power-law aging"); a law the registry does not hold (a
+    // diagnosis read back in another process) by its name, capitalised
     let one = |l: &str| match l.parse::<rsf_laws::Law>() {
         Ok(law) => law.words().to_string(),
+        Err(_) if rsf_laws::registry::find(l).is_ok_and(|e| !e.words().is_empty()) => {
+            rsf_laws::registry::find(l).map(|e| e.words().to_string()).unwrap_or_default()
+        }
         Err(_) => {
             let mut c = l.chars();
             c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
@@ -218,9 +222,12 @@ fn need(d: &Diagnosis) -> String {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
             }
             (Some(l), _) => {
-                let own = [("c", val("c")), ("w", val("w"))]
+                // a built-in law's own parameter (c, w) and a registered law's (power-law aging's n)
+                let registered = d.effect.law_parameters.keys().map(String::as_str);
+                let own = ["c", "w"]
                     .into_iter()
-                    .filter_map(|(k, v)| v.map(|v| format!("{} = {v}", param_meta(k).0)))
+                    .chain(registered)
+                    .filter_map(|k| val(k).map(|v| format!("{} = {v}", param_meta(k).0)))
                     .collect::<Vec<_>>();
                 let own = if own.is_empty() { String::new() } else { format!(" ({})", own.join(", ")) };
                 format!("the {} law{own} instead of the {base_law} law", law_words(l))
