@@ -29,5 +29,5 @@ run basalt7_lp_record "$G/main-history/velstep7_BRAVA_expb819_basalt.txt" "${BAS
 run basalt4 examples/data/giacomel-basalt/velstep4_BRAVA_expb819_basalt.txt "${BAS[@]}" --law slip --stiffness 0.0151 --fit-stiffness --loading protocol --mcmc 20000 --seed 1
 # sepiolite velstep3 (0.2 -> 2 µm/s, TR2), long transients
 run sepiolite3 "$G/demo-branch/velstep3_TR2_exp013_sepiolite.txt" "${BAS[@]}" --law slip --stiffness 0.01 --fit-stiffness --loading protocol
-run sepiolite3_2state "$G/demo-branch/velstep3_TR2_exp013_sepiolite.txt" "${BAS[@]}" --law slip --states 2 --stiffness 0.01 --fit-stiffness --loading protocol
+run sepiolite3_2state "$G/demo-branch/velstep3_TR2_exp013_sepiolite.txt" "${BAS[@]}" --law slip --states 2 --stiffness 0.01 --fit-stiffness --loading protocol --max-iter 400
 for f in "$O"/*.svg; do command -v rsvg-convert >/dev/null && rsvg-convert -w 1000 "$f" -o "${f%.svg}.png" || true; done

@@ -12,9 +12,12 @@
 //! | `row.rs` | the summary row of a record and the summary table |
 
 mod manifest;
+mod place;
 mod row;
 mod work;
 
-pub use manifest::{Column, Entry, RecordOptions, folder_entries, read_manifest, register_law_files};
-pub use row::{Cell, CellKind, Param, Row, Status, SummaryTable, summary_csv, summary_table};
+pub use manifest::{
+    Column, Entry, RecordOptions, folder_entries, read_manifest, read_manifest_allowing_outside, register_law_files,
+};
+pub use row::{Cell, CellKind, Param, Row, Status, SummaryTable, spreadsheet_safe, summary_csv, summary_table};
 pub use work::{FIT_STARTS, Job, Outcome, run_entry};

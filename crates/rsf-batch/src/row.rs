@@ -12,6 +12,9 @@ pub enum Status {
     ReadFailed,
     /// The fit failed.
     FitFailed,
+    /// The fit returned its best point without converging (the row carries those numbers and,
+    /// in `error`, why).
+    NotConverged,
     /// The diagnosis failed.
     DiagnoseFailed,
     /// The options were incomplete or wrong for this record (e.g. no stiffness).
@@ -29,6 +32,7 @@ impl Status {
             Status::Ok => "ok",
             Status::ReadFailed => "read_failed",
             Status::FitFailed => "fit_failed",
+            Status::NotConverged => "not_converged",
             Status::DiagnoseFailed => "diagnose_failed",
             Status::OptionsInvalid => "options_invalid",
             Status::Crashed => "crashed",
@@ -195,6 +199,18 @@ impl Cell {
     }
 }
 
+/// A text cell as a spreadsheet cannot take it for a formula: one that begins with `=`, `@`,
+/// a tab or a carriage return, or with `+` or `-` without being a number, gets a leading `'`
+/// (OWASP's advice on CSV injection; a spreadsheet shows the text, and `'` marks it as such).
+/// A meta cell `=HYPERLINK(…)` from a manifest stays text; `-20` stays a number.
+pub fn spreadsheet_safe(t: &str) -> String {
+    match t.chars().next() {
+        Some('=' | '@' | '\t' | '\r') => format!("'{t}"),
+        Some('+' | '-') if t.trim().parse::<f64>().is_err() => format!("'{t}"),
+        _ => t.to_string(),
+    }
+}
+
 /// What a column of the summary holds (every cell of it is of this kind).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CellKind {
@@ -300,9 +316,12 @@ pub fn summary_csv(rows: &[Row]) -> String {
     let t = summary_table(rows);
     let mut w = csv::Writer::from_writer(vec![]);
     // writing to a Vec cannot fail
-    let _ = w.write_record(&t.header);
+    let _ = w.write_record(t.header.iter().map(|h| spreadsheet_safe(h)));
     for r in &t.rows {
-        let _ = w.write_record(r.iter().map(Cell::text));
+        let _ = w.write_record(r.iter().map(|c| match c {
+            Cell::Text(t) => spreadsheet_safe(t),
+            Cell::Number(_) | Cell::Count(_) => c.text(),
+        }));
     }
     String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
 }
@@ -330,5 +349,27 @@ mod tests {
         assert!(lines[1].contains(",0.01,0.0001,10,1,,,0.01,,"), "{}", lines[1]);
         assert!(lines[3].starts_with("\"c, d.csv\",read_failed,"), "{}", lines[3]);
         assert_eq!(lines.len(), 4);
+    }
+
+    /// A manifest's meta cell cannot become a spreadsheet formula (issue 40: on the main before
+    /// it, `=HYPERLINK(…)` was written raw); numbers stay numbers.
+    #[test]
+    fn formula_like_text_is_neutralised() {
+        for (cell, want) in [
+            ("=HYPERLINK(\"x\")", "'=HYPERLINK(\"x\")"),
+            ("@SUM(A1)", "'@SUM(A1)"),
+            ("+cmd", "'+cmd"),
+            ("-cmd", "'-cmd"),
+            ("-20", "-20"),
+            ("+1.5e3", "+1.5e3"),
+            ("S1", "S1"),
+            ("", ""),
+        ] {
+            assert_eq!(spreadsheet_safe(cell), want);
+        }
+        let mut a = Row::failed("a.csv", Status::Ok, String::new());
+        a.meta = vec![("meta_note".into(), "=1+1".into())];
+        let t = summary_csv(&[a]);
+        assert!(t.lines().nth(1).unwrap().ends_with(",'=1+1"), "{t}");
     }
 }

@@ -155,6 +155,10 @@ fn work(entry: &Entry, defaults: &RecordOptions, job: Job, threads: usize) -> Ou
                 out.row.laws = Some(f.params.laws.join("+"));
                 out.row.rms = Some(f.rms);
                 out.row.params = params_of(&f);
+                if let Some(why) = f.convergence_text() {
+                    out.row.status = Status::NotConverged;
+                    out.row.error = why;
+                }
                 out.fit = Some(f);
             }
             Err(e) => {

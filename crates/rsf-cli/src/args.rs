@@ -315,6 +315,10 @@ pub(crate) struct BatchArgs {
     /// Diagnose each record (as `rsf diagnose`).
     #[arg(long)]
     pub(crate) diagnose: bool,
+    /// Read records outside the manifest's folder too (an absolute path, `../`, a link out);
+    /// refused by default.
+    #[arg(long)]
+    pub(crate) allow_outside: bool,
     /// Nominal machine stiffness k, 1/µm, for records whose manifest row gives none.
     #[arg(long)]
     pub(crate) stiffness: Option<f64>,
@@ -430,6 +434,10 @@ pub(crate) struct FitArgs {
     /// Number of starting points for LM.
     #[arg(long, default_value_t = rsf_batch::FIT_STARTS)]
     pub(crate) starts: usize,
+    /// LM iterations per start; a fit whose best start reaches the limit is reported as not
+    /// converged (exit status 1, outputs written with "converged": false).
+    #[arg(long, default_value_t = 100)]
+    pub(crate) max_iter: usize,
     /// Also refit each velocity step and each hold-and-reslide on its own (the consistency check across step sizes and hold times; the same refits as `rsf diagnose`)
     #[arg(long)]
     pub(crate) per_segment: bool,

@@ -15,7 +15,8 @@
 use crate::args::BatchArgs;
 use anyhow::{Context, Result, bail};
 use rsf_batch::{
-    Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, run_entry, summary_csv, summary_table,
+    Entry, Job, RecordOptions, Row, Status, folder_entries, read_manifest, read_manifest_allowing_outside, run_entry,
+    summary_csv, summary_table,
 };
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
@@ -159,6 +160,8 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     let job = Job { fit: a.fit, diagnose: a.diagnose };
     let entries = if a.input.is_dir() {
         folder_entries(&a.input).map_err(anyhow::Error::msg)?
+    } else if a.allow_outside {
+        read_manifest_allowing_outside(&a.input).map_err(anyhow::Error::msg)?
     } else {
         read_manifest(&a.input).map_err(anyhow::Error::msg)?
     };

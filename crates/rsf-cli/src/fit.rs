@@ -61,6 +61,10 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     o.loading = a.loading;
     o.rtol = a.rtol;
     o.starts = a.starts;
+    if a.max_iter == 0 {
+        bail!("--max-iter must be at least 1");
+    }
+    o.max_iter = a.max_iter;
     if a.every_sample {
         o.bins = rsf_fit::fit::BinMeans::Off;
     }
@@ -163,6 +167,11 @@ pub fn run(a: &FitArgs) -> Result<()> {
         let out = Output { data: a.data.display().to_string(), fit: &res, mcmc, per_segment, wall_s: wall };
         crate::output::write_bytes(j, serde_json::to_string_pretty(&out)? + "\n")?;
     }
+    // a fit that did not converge has printed and written its best point, marked so; the
+    // exit status says it is not a result
+    if let Some(why) = res.convergence_text() {
+        bail!("{why} (outputs written with \"converged\": false)");
+    }
     Ok(())
 }
 
@@ -208,6 +217,9 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
         "rms {:.3e}  n {}  free {}  logL {:.1}  AIC {:.1}  BIC {:.1}  ({} LM iterations: {})",
         r.rms, r.n, r.n_free, r.log_likelihood, r.aic, r.bic, r.iterations, r.stop_reason
     );
+    if let Some(why) = r.convergence_text() {
+        let _ = writeln!(s, "NOT CONVERGED: {why}");
+    }
     if !r.at_bound.is_empty() {
         let _ = writeln!(
             s,

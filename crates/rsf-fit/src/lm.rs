@@ -47,6 +47,22 @@ impl StopReason {
     }
 }
 
+impl StopReason {
+    /// Whether LM stopped at an optimum (every reason but the iteration limit: a vanished
+    /// gradient, a step or a reduction below round-off, a gain below the tolerance, damping
+    /// against a minimum or a wall).
+    pub fn at_optimum(self) -> bool {
+        match self {
+            Self::GradientVanished
+            | Self::SmallReduction
+            | Self::SmallStep
+            | Self::DampingDiverged
+            | Self::Converged => true,
+            Self::IterationLimit => false,
+        }
+    }
+}
+
 impl std::fmt::Display for StopReason {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())

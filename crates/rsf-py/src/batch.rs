@@ -5,13 +5,25 @@
 
 use crate::value_error;
 use pyo3::prelude::*;
-use rsf_batch::{Entry, Job, RecordOptions, Row, folder_entries, read_manifest, run_entry, summary_csv};
+use rsf_batch::{
+    Entry, Job, RecordOptions, Row, folder_entries, read_manifest, read_manifest_allowing_outside, run_entry,
+    summary_csv,
+};
 
-/// The records of a manifest (CSV) or a folder, as a JSON list of entries.
+/// The records of a manifest (CSV) or a folder, as a JSON list of entries; records outside
+/// the manifest's folder only with `allow_outside`.
 #[pyfunction]
-pub fn batch_entries(path: &str) -> PyResult<String> {
+#[pyo3(signature = (path, allow_outside=false))]
+pub fn batch_entries(path: &str, allow_outside: bool) -> PyResult<String> {
     let p = std::path::Path::new(path);
-    let e = if p.is_dir() { folder_entries(p) } else { read_manifest(p) }.map_err(value_error)?;
+    let e = if p.is_dir() {
+        folder_entries(p)
+    } else if allow_outside {
+        read_manifest_allowing_outside(p)
+    } else {
+        read_manifest(p)
+    }
+    .map_err(value_error)?;
     serde_json::to_string(&e).map_err(value_error)
 }
 

@@ -95,3 +95,16 @@ def test_a_law_file_in_the_manifest_reaches_dask_workers(tmp_path, client):
     assert df.loc[0, "laws"] == "power-aging"
     n = [c for c in df.columns if c.startswith("n1")]
     assert n and abs(df.loc[0, "n1"] - 1.5) < 0.01, list(df.columns)
+
+
+def test_a_record_outside_the_manifests_folder_is_refused(tmp_path):
+    # issue 40: on the main before it, `../x.csv` was read (and its first line could reach the
+    # summary's error cell)
+    (tmp_path / "lab").mkdir()
+    shutil.copy(BASALT, tmp_path / "x.txt")
+    (tmp_path / "lab" / "manifest.csv").write_text("file,stiffness\n../x.txt,0.0151\n")
+    with pytest.raises(ValueError, match="outside the manifest's folder"):
+        rsf.fit_many(tmp_path / "lab" / "manifest.csv")
+    df = rsf.fit_many(tmp_path / "lab" / "manifest.csv", allow_outside=True, time_col="Time(s)",
+                      lp_col="Displ(microns)", mu_col="Friction")
+    assert list(df["status"]) == ["ok"], df.get("error")

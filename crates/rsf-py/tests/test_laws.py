@@ -229,3 +229,13 @@ def test_check_law_runs_the_kit_on_files_names_and_functions():
 
     with pytest.raises(ValueError, match="steady_state"):
         rsf.check_law(off_by_a_tenth, cases=16, steady_state_dc_over_v=True)
+
+
+def test_a_fit_says_whether_it_converged():
+    # issue 40: `converged` and `starts_failed` in the result (a fit that did not converge also
+    # warns); a power-law-aging fit started at n = 3 converges to the truth
+    rsf.load_law(POWER_FILE)
+    rec = rsf.read_record(POWER_RECORD)
+    f = rsf.fit(rec, stiffness=0.02, law="power-aging", initial={"n1": 3.0})
+    assert f.converged is True and f.starts_failed >= 0, (f.converged, f.starts_failed)
+    assert abs(f.params["law_params"]["n1"] - 1.5) < 0.005

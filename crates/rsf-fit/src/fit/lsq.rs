@@ -39,6 +39,9 @@ struct Searched {
     /// Integrator steps of the whole search.
     steps: u64,
     starts: usize,
+    /// Starts whose search failed (a forward solve that ran away, a budget before the first
+    /// evaluation).
+    starts_failed: usize,
 }
 
 /// One start's Levenberg–Marquardt run under its allowance of integrator steps.
@@ -181,17 +184,24 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     // the budget that stopped the best start, if one did: not converged, and said so
     let mut best_hit = None;
     let mut first_err = None;
+    let mut failed = 0usize;
     let mut before = used.get();
-    // the starts in order, each under the allowance the ones before it leave: the first may use
-    // the whole budget, each later one at most `per_start_factor` times the first's work
-    let mut later: Option<(u64, Vec<StartRun>)> = None;
+    // the starts in order, each under the allowance the ones before it leave. Until one start
+    // has converged within the budget, each may use all that is left; after the first that
+    // has, each later one at most `per_start_factor` times that start's work (a start that
+    // wanders into a stiff corner must not hold the fit up). A start that ran away at once is
+    // no measure of the work a fit takes: its few steps would starve every later start.
+    // `later`: (the share, the index of the start it was measured on, the later starts' runs
+    // made side by side)
+    let mut later: Option<(u64, usize, Vec<StartRun>)> = None;
     for (i, s) in starts.iter().enumerate() {
         if before >= budget {
             break;
         }
-        let share = later.as_ref().map_or(u64::MAX, |(share, _)| *share);
+        let share = later.as_ref().map_or(u64::MAX, |(share, _, _)| *share);
         let allowance = (budget - before).min(share);
-        let run = match later.as_mut().and_then(|(_, runs)| runs.get_mut(i - 1)) {
+        let ahead = later.as_mut().and_then(|(_, at, runs)| runs.get_mut(i.checked_sub(*at + 1)?));
+        let run = match ahead {
             // run beside the others at the largest allowance any later start can have: the
             // same run as under its own allowance when that is the same, or when it finished
             // below its own without a budget stopping it
@@ -201,7 +211,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
             _ => run_start(s, allowance, &convergence),
         };
         before += run.steps;
-        if i == 0 {
+        if later.is_none() && run.result.is_ok() && run.hit.is_none() {
             // the later starts' share, and (with threads) their runs side by side
             let share = (opts.budget.per_start_factor * run.steps.max(1) as f64) as u64;
             let widest = budget.saturating_sub(before).min(share);
@@ -209,12 +219,13 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
                 t => t,
             };
-            let runs = if threads > 1 && starts.len() > 2 && widest > 0 && run.hit.is_none() {
-                crate::parallel::par_map(&starts[1..], threads, |s| run_start(s, widest, &convergence))
+            let rest = &starts[i + 1..];
+            let runs = if threads > 1 && rest.len() > 1 && widest > 0 {
+                crate::parallel::par_map(rest, threads, |s| run_start(s, widest, &convergence))
             } else {
                 vec![]
             };
-            later = Some((share, runs));
+            later = Some((share, i, runs));
         }
         match run.result {
             Ok(r) => {
@@ -224,6 +235,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 }
             }
             Err(e) => {
+                failed += 1;
                 first_err.get_or_insert(e);
             }
         }
@@ -237,7 +249,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 .unwrap_or_else(|| SolveError::Input("the step budget ran out before the first evaluation".into())),
         ));
     };
-    Ok(Searched { map, best, best_hit, steps: before, starts: starts.len() })
+    Ok(Searched { map, best, best_hit, steps: before, starts: starts.len(), starts_failed: failed })
 }
 
 /// The fit's result at the optimum `s`, evaluated on the points of `p`: curve, residuals,
@@ -246,7 +258,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
 /// residuals come from one plain solve at the samples: their sensitivities would cost m + 1
 /// times the output of the curve for nothing the result needs.
 fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searched) -> Result<FitResult, FitError> {
-    let Searched { map, best, best_hit, steps, starts } = s;
+    let Searched { map, best, best_hit, steps, starts, starts_failed } = s;
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     let full = map.full(&best.theta);
@@ -365,9 +377,11 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
         segments: rows,
         iterations: best.iterations,
         stop_reason: best.reason,
+        converged: best_hit.is_none() && best.reason.at_optimum(),
         budget_hit: best_hit,
         steps,
         starts,
+        starts_failed,
         loading: opts.loading,
         weighting: opts.weighting,
         curve,

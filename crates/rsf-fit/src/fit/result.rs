@@ -120,6 +120,11 @@ pub struct FitResult {
     pub iterations: usize,
     /// Why LM stopped on the best start.
     pub stop_reason: StopReason,
+    /// Whether the best start reached an optimum: LM stopped for a reason other than its
+    /// iteration limit ([`StopReason::at_optimum`]) and no budget stopped it. A fit that did
+    /// not is still returned (its numbers are the best point found), and says so here,
+    /// in [`Self::convergence_text`], on the CLI and in a batch's status.
+    pub converged: bool,
     /// A budget that stopped the best start before it converged (absent when none did).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub budget_hit: Option<BudgetHit>,
@@ -127,6 +132,9 @@ pub struct FitResult {
     pub steps: u64,
     /// Starts tried.
     pub starts: usize,
+    /// Starts whose search failed (a forward solve that ran away at their first point, or a
+    /// budget before it).
+    pub starts_failed: usize,
     /// Loading used by the forward model.
     pub loading: LoadingMode,
     /// Weighting.
@@ -145,6 +153,23 @@ pub struct FitResult {
     /// Covariance of θ.
     #[serde(skip)]
     pub cov_theta: Vec<f64>,
+}
+
+impl FitResult {
+    /// Why the fit is not at an optimum, in words (`None` when it converged).
+    pub fn convergence_text(&self) -> Option<String> {
+        if self.converged {
+            return None;
+        }
+        let why = match self.budget_hit {
+            Some(b) => format!("{b} on its best start"),
+            None => format!("its best start stopped at the {}", self.stop_reason),
+        };
+        Some(format!(
+            "the fit did not converge: {why} ({} of {} starts failed); its numbers are the best point found, not an optimum",
+            self.starts_failed, self.starts
+        ))
+    }
 }
 
 /// Samples used by a fit with data and model.

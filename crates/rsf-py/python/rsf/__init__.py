@@ -25,6 +25,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
@@ -498,7 +499,9 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
     depend on it).
 
     Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
-    ``k``, ``g``, ``alpha``…), ``ci95``, ``stderr``, ``rms``, ``aic``, ``bic``, ``segments``,
+    ``k``, ``g``, ``alpha``…), ``converged`` (False, with a ``RuntimeWarning``, when no start
+    reached an optimum: a budget stopped it or LM's iteration limit), ``starts_failed``,
+    ``ci95``, ``stderr``, ``rms``, ``aic``, ``bic``, ``segments``,
     ``curve`` (numpy arrays ``time``, ``data``, ``model``…), ``mcmc`` summaries and ``samples``.
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
@@ -509,7 +512,13 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
         mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads)
-    return FitResult(json.loads(raw), samples, names, curve)
+    result = FitResult(json.loads(raw), samples, names, curve)
+    if not result.get("converged", True):
+        # the best point found is returned, marked: ``result.converged`` is False
+        why = result.get("budget_hit") or f"stopped at the {result.get('stop_reason')}"
+        warnings.warn(f"rsf.fit did not converge ({why}; {result.get('starts_failed')} of {result.get('starts')} starts "
+                      "failed): its numbers are the best point found, not an optimum", RuntimeWarning, stacklevel=2)
+    return result
 
 
 def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",

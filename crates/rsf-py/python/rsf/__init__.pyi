@@ -83,6 +83,8 @@ class FitResult(dict[str, Any]):
     params: dict[str, Any]
     ci95: dict[str, list[float]]
     stderr: dict[str, float]
+    converged: bool
+    starts_failed: int
     rms: float
     aic: float
     bic: float
@@ -199,6 +201,7 @@ def fit_many(
     *,
     diagnose: bool = ...,
     progress: bool = ...,
+    allow_outside: bool = ...,
     **options: Any,
 ) -> Any: ...  # pandas.DataFrame: the columns of `rsf batch`'s summary.csv
 def diagnose_many(
@@ -208,5 +211,6 @@ def diagnose_many(
     *,
     fit: bool = ...,
     progress: bool = ...,
+    allow_outside: bool = ...,
     **options: Any,
 ) -> Any: ...  # pandas.DataFrame

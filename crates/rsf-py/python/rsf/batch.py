@@ -25,9 +25,9 @@ OPTIONS = ("stiffness", "time_col", "lp_col", "mu_col", "shear_col", "normal_col
 PathLike = Union[str, os.PathLike]
 
 
-def _entries(manifest_or_paths: Union[PathLike, Sequence[PathLike]]) -> list:
+def _entries(manifest_or_paths: Union[PathLike, Sequence[PathLike]], allow_outside: bool = False) -> list:
     if isinstance(manifest_or_paths, (str, os.PathLike)):
-        return json.loads(_rsf.batch_entries(os.fspath(manifest_or_paths)))
+        return json.loads(_rsf.batch_entries(os.fspath(manifest_or_paths), allow_outside))
     return [{"name": os.fspath(p), "path": os.path.abspath(os.fspath(p)), "line": 0, "options": {}, "meta": []}
             for p in manifest_or_paths]
 
@@ -37,7 +37,8 @@ def _row(entry_json: str, defaults_json: str, fit: bool, diagnose: bool, threads
     return _rsf.batch_row(entry_json, defaults_json, fit, diagnose, threads)
 
 
-def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progress: bool, options: dict):
+def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progress: bool, options: dict,
+          allow_outside: bool = False):
     unknown = sorted(set(options) - set(OPTIONS))
     if unknown:
         raise TypeError(f"unknown option(s) {', '.join(unknown)}: use {', '.join(OPTIONS)}")
@@ -49,7 +50,7 @@ def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progr
         defaults["stiffness"] = float(stiffness)
     dj = json.dumps(defaults)
     _rsf.batch_check_options(dj)
-    entries = [json.dumps(e) for e in _entries(manifest_or_paths)]
+    entries = [json.dumps(e) for e in _entries(manifest_or_paths, allow_outside)]
     if client is None:
         rows = []
         for k, e in enumerate(entries):
@@ -69,20 +70,23 @@ def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progr
 
 
 def fit_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffness: Optional[float] = None,
-             client: Any = None, *, diagnose: bool = False, progress: bool = False, **options):
+             client: Any = None, *, diagnose: bool = False, progress: bool = False, allow_outside: bool = False,
+             **options):
     """Fits every record of a manifest (CSV), a folder, or a list of paths, as
     ``rsf batch --fit`` does; a pandas DataFrame with its ``summary.csv`` columns (``file``,
     ``status``, ``error``, conditions, parameters and ``*_se``, …). ``stiffness`` and
     ``options`` (see :data:`OPTIONS`) are the defaults a manifest's cells override. With a
     ``dask.distributed`` ``client`` each record is a task on the cluster. A failing record is a
-    row whose ``status`` says what failed; the others go on."""
-    return _many(manifest_or_paths, stiffness, client, True, diagnose, progress, options)
+    row whose ``status`` says what failed; the others go on. A manifest's record outside its
+    folder is refused unless ``allow_outside``."""
+    return _many(manifest_or_paths, stiffness, client, True, diagnose, progress, options, allow_outside)
 
 
 def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffness: Optional[float] = None,
-                  client: Any = None, *, fit: bool = False, progress: bool = False, **options):
+                  client: Any = None, *, fit: bool = False, progress: bool = False, allow_outside: bool = False,
+                  **options):
     """Diagnoses every record, as ``rsf batch --diagnose`` does (``fit=True``: ``--fit
     --diagnose``); see :func:`fit_many`. The table adds ``cause``, ``delta_bic``,
     ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess`` and
     ``drift_rms``."""
-    return _many(manifest_or_paths, stiffness, client, fit, True, progress, options)
+    return _many(manifest_or_paths, stiffness, client, fit, True, progress, options, allow_outside)
