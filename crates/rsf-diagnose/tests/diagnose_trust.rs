@@ -126,11 +126,16 @@ fn a_baseline_whose_cold_starts_run_away_late_is_continued_from_the_record_befor
     let rec = read_record(&path, &ro).unwrap();
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
     let o = options(0.0004622440548290379, LoadingMode::Protocol);
-    // what the diagnosis met: the cold fit runs away at the drop of σ
+    // what the diagnosis meets: cold starts that run away at the drop of σ — every one of them
+    // while a start that ran away set the later starts' budget; since a start that ran away no
+    // longer starves the others (issue 40), a later start may get through
     let fo = diagnosis_fit_options(&o);
     let (clean, csegs, _) = without_spikes(&rec, &segs);
-    let cold = fit(&prepare(&clean, &csegs, &fo).unwrap(), &fo).err();
-    assert!(matches!(cold, Some(FitError::Start(rsf_solvers::SolveError::BlowUp { .. }))), "{cold:?}");
+    match fit(&prepare(&clean, &csegs, &fo).unwrap(), &fo) {
+        Err(FitError::Start(rsf_solvers::SolveError::BlowUp { .. })) => {}
+        Ok(f) => assert!(f.starts_failed >= 1, "no start ran away: {} of {}", f.starts_failed, f.starts),
+        Err(e) => panic!("{e}"),
+    }
     let d = diagnose(&rec, &segs, &o).unwrap();
     assert_eq!(d.cause, Cause::EvolutionLaw, "{}", d.reason);
 }
