@@ -117,7 +117,7 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
 #[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
     fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
-    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0))]
+    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0, max_iter=100))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -146,7 +146,11 @@ pub fn fit_json(
     weights: &str,
     per_segment: bool,
     threads: usize,
+    max_iter: usize,
 ) -> PyResult<FitOut> {
+    if max_iter == 0 {
+        return Err(value_error("max_iter must be at least 1"));
+    }
     let rec = record(time, load_point, mu, normal_stress)?;
     let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
     if let Some(names) = laws {
@@ -172,6 +176,7 @@ pub fn fit_json(
     }
     opts.rtol = rtol;
     opts.starts = starts.max(1);
+    opts.max_iter = max_iter;
     if let Some(w) = window_um {
         if !(w > 0.0 && w.is_finite()) {
             return Err(value_error(format!("window_um {w} must be positive (µm)")));

@@ -106,5 +106,5 @@ def test_a_record_outside_the_manifests_folder_is_refused(tmp_path):
     with pytest.raises(ValueError, match="outside the manifest's folder"):
         rsf.fit_many(tmp_path / "lab" / "manifest.csv")
     df = rsf.fit_many(tmp_path / "lab" / "manifest.csv", allow_outside=True, time_col="Time(s)",
-                      lp_col="Displ(microns)", mu_col="Friction")
+                      lp_col="Displ(microns)", mu_col="Friction", loading="protocol")
     assert list(df["status"]) == ["ok"], df.get("error")

@@ -486,7 +486,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         starts: int = 4, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
         window_um: Optional[float] = None, mu0_per_segment: bool = False, weights: str = "equal",
         per_segment: bool = False, threads: int = 0, time=None, load_point=None, mu=None,
-        normal_stress=None) -> FitResult:
+        normal_stress=None, max_iter: int = 100) -> FitResult:
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
@@ -496,7 +496,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
     ``"uniform"``), ``per_segment`` (refit each step and hold alone: ``per_segment`` in the
     result), ``mcmc`` (total samples; ``chains``, ``seed``), ``progress`` (MCMC progress bar on
     stderr), ``threads`` (for the starts after the first; 0: all cores; the result does not
-    depend on it).
+    depend on it), ``max_iter`` (LM iterations per start).
 
     Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
     ``k``, ``g``, ``alpha``…), ``converged`` (False, with a ``RuntimeWarning``, when no start
@@ -511,7 +511,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         laws=None if laws is None else [_law_name(x) for x in laws],
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
-        mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads)
+        mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads,
+        max_iter=max_iter)
     result = FitResult(json.loads(raw), samples, names, curve)
     if not result.get("converged", True):
         # the best point found is returned, marked: ``result.converged`` is False

@@ -154,6 +154,7 @@ def fit(
     load_point: Optional[npt.ArrayLike] = ...,
     mu: Optional[npt.ArrayLike] = ...,
     normal_stress: Optional[npt.ArrayLike] = ...,
+    max_iter: int = ...,
 ) -> FitResult: ...
 def diagnose(
     record: Optional[Mapping[str, Any]] = ...,
