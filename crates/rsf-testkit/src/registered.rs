@@ -1,6 +1,6 @@
 //! The kit on a law of the registry: a built-in law, or a law file's law, with the claims its
 //! parameters' units imply (`rsf check-law`, Python's `rsf.check_law`). A law registered from
-//! Rust is checked in its own crate's tests with [`check`](crate::check) on its type; a Python
+//! Rust is checked in its own crate's tests with [`check`] on its type; a Python
 //! function by `rsf.check_law`, which holds its type.
 
 use crate::{Claims, Failure, Report, check};
