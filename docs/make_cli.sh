@@ -43,7 +43,11 @@ values of a failed integration, and exits with status 1. Output files (`-o`, `--
 `--json`, `--report`) are written only after the work succeeds, into a temporary file beside
 the target that is renamed over it when complete: a killed run leaves the old file or the new
 one, never a mix; an output that would overwrite one of the command's inputs is refused before
-any work starts.
+any work starts. An output named `-`, `/dev/stdout` (or the very file standard output is
+redirected to) is written to standard output, whole, and the command's table then goes to
+standard error: `rsf fit rec.csv --stiffness 0.01 --json - | jq .fit.params`. A fit that did
+not converge prints `NOT CONVERGED: …`, writes its outputs with `"converged": false` and exits
+with status 1.
 
 `--law-file FILE` (before or after the subcommand, repeatable) registers the law of a law file
 (docs/laws.md) for the command: its name is then a law for `--law`, `--laws`, protocols and

@@ -10,7 +10,9 @@
 //! - `DIR/records/KEY.row.json` and `KEY.stamp`: the record's summary row, and what it was
 //!   computed from (SHA-256 of the record's bytes, the options, the job, rsf's version). The
 //!   stamp is written last, after every output is complete: a record with a matching stamp is
-//!   skipped on a re-run; an interrupted or failed one is run again.
+//!   skipped on a re-run; an interrupted or failed one is run again, its earlier outputs
+//!   removed first (a failed record leaves none).
+//! - `DIR/.rsf-batch.lock` while a run works on DIR (`batch_lock.rs`).
 
 use crate::args::BatchArgs;
 use anyhow::{Context, Result, bail};
@@ -106,6 +108,17 @@ fn reuse(p: &Paths, stamp: &str, job: Job) -> Option<Row> {
 fn one(e: &Entry, d: &RecordOptions, job: Job, dir: &Path, threads: usize, force: bool) -> (Row, bool) {
     let p = Paths::new(dir, &e.name);
     let o = e.options.or(d);
+    // a FIFO or device would be read twice (the stamp, then the record): the stamp's read
+    // drains it and the record's then waits for ever
+    if std::fs::metadata(&e.path).is_ok_and(|m| !m.is_file()) {
+        let mut row = Row::failed(
+            &e.name,
+            Status::ReadFailed,
+            format!("{}: not a regular file (a pipe, device or folder): give rsf batch a file", e.path.display()),
+        );
+        row.meta = e.meta.clone();
+        return (row, false);
+    }
     let st = match stamp(e, &o, job) {
         Ok(s) => s,
         Err(err) => {
@@ -120,8 +133,12 @@ fn one(e: &Entry, d: &RecordOptions, job: Job, dir: &Path, threads: usize, force
         }
     }
     // an earlier run's stamp goes first: an interrupted run must not leave new outputs under
-    // an old stamp
+    // an old stamp; then its outputs: a record that fails now must not leave them beside its
+    // failed row
     let _ = std::fs::remove_file(&p.stamp);
+    for old in [&p.fit, &p.diagnosis, &p.report] {
+        let _ = std::fs::remove_file(old);
+    }
     let out = run_entry(e, d, job, threads);
     let mut row = out.row;
     let write = || -> Result<()> {
@@ -185,12 +202,20 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     for e in &entries {
         files = files.input("record", &e.path);
     }
-    files
-        .output("summary", Some(&summary))
-        .output("summary", Some(&parquet))
-        .output("figure", Some(&figure))
-        .check()?;
+    files = files.output("summary", Some(&summary)).output("summary", Some(&parquet)).output("figure", Some(&figure));
+    // and each record's own outputs (a manifest may list one of an earlier run's)
+    for e in &entries {
+        let p = Paths::new(&dir, &e.name);
+        for out in [&p.fit, &p.diagnosis, &p.report, &p.row, &p.stamp] {
+            files = files.output("record", Some(out));
+        }
+    }
+    files.check()?;
+    let _lock = crate::batch_lock::lock(&a.out)?;
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    // what a killed run left half-written
+    crate::batch_lock::sweep_partials(&a.out);
+    crate::batch_lock::sweep_partials(&dir);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = if a.jobs == 0 { cores } else { a.jobs }.min(entries.len()).max(1);
     // the cores left over go to each record's own fits (the result does not depend on it)

@@ -8,6 +8,7 @@
 
 mod args;
 mod batch;
+mod batch_lock;
 mod design;
 mod fit;
 mod laws;
@@ -37,8 +38,14 @@ pub fn main() -> std::process::ExitCode {
 }
 
 /// Writes to standard output and flushes it; a closed pipe (`rsf … | head`) is not an error.
+/// When an output file is standard output (`--json -`, `--json /dev/stdout`), the text goes to
+/// standard error instead, so that the file arrives whole.
 fn write_stdout(text: &str) -> Result<()> {
     use std::io::Write;
+    if output::stdout_taken() {
+        let _ = std::io::stderr().write_all(text.as_bytes());
+        return Ok(());
+    }
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),

@@ -4,7 +4,10 @@
 //!   target's folder and renamed over the target only when complete ([`write_file`], with the
 //!   `tempfile` crate). A run killed while writing, or a full disk, leaves the old file as it
 //!   was (a full disk says so); the temporary file is removed. Pipes, terminals and devices
-//!   (`/dev/stdout`, `/dev/null`) are written directly.
+//!   (`/dev/null`) are written directly. An output that is this process's standard output —
+//!   `-`, `/dev/stdout`, `/proc/self/fd/1`, a link to them, or the file stdout is redirected
+//!   to — is written to standard output itself ([`is_stdout`]), never renamed over, and the
+//!   command's table then goes to standard error.
 //! * Before any work starts, [`Files::check`] refuses an output that is the same file as an
 //!   input (by device and inode, so links and `./` spellings are caught) and two outputs that
 //!   are one file, naming both.
@@ -17,6 +20,34 @@
 use anyhow::{Context, Result, bail};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+
+/// Set when an output is standard output: the command's own text then goes to stderr.
+static STDOUT_TAKEN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether an output file of this command is standard output.
+pub fn stdout_taken() -> bool {
+    STDOUT_TAKEN.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Whether `path` names this process's standard output: `-`, or the very file standard output
+/// is (same device and inode: `/dev/stdout`, `/proc/self/fd/1`, a link to them, or the file
+/// a shell redirected it to).
+pub fn is_stdout(path: &Path) -> bool {
+    if path.as_os_str() == "-" {
+        return true;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        use std::os::unix::fs::MetadataExt;
+        let Ok(fd) = std::io::stdout().as_fd().try_clone_to_owned() else { return false };
+        let Ok(me) = std::fs::File::from(fd).metadata() else { return false };
+        if let Ok(m) = std::fs::metadata(path) {
+            return m.dev() == me.dev() && m.ino() == me.ino();
+        }
+    }
+    false
+}
 
 /// The inputs and outputs of one command, checked against each other before it runs.
 #[derive(Default)]
@@ -66,8 +97,16 @@ impl<'a> Files<'a> {
         self.outputs.extend(p.map(|p| (what, p.to_path_buf())));
         self
     }
-    /// Refuses an output that is an input or another output, naming both.
+    /// Refuses an output that is an input or another output, naming both. Notes an output that
+    /// is standard output ([`stdout_taken`]); two such are refused.
     pub fn check(&self) -> Result<()> {
+        let to_stdout: Vec<&PathBuf> = self.outputs.iter().filter(|(_, p)| is_stdout(p)).map(|(_, p)| p).collect();
+        if let [a, b, ..] = to_stdout[..] {
+            bail!("the outputs {} and {} are both standard output; give one a file", a.display(), b.display());
+        }
+        if !to_stdout.is_empty() {
+            STDOUT_TAKEN.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
         let ins: Vec<_> = self.inputs.iter().map(|(w, p)| (w, p, file_id(p))).collect();
         let outs: Vec<_> = self.outputs.iter().map(|(w, p)| (w, p, file_id(p))).collect();
         for (k, (w, p, id)) in outs.iter().enumerate() {
@@ -94,6 +133,10 @@ impl<'a> Files<'a> {
 /// Writes `path` with what `fill` writes: into a temporary file beside it, renamed over it
 /// when complete. A device or pipe (`/dev/stdout`) is written directly.
 pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+    if is_stdout(path) {
+        let mut out = io::stdout().lock();
+        return fill(&mut out).and_then(|()| out.flush()).with_context(|| format!("writing {}", path.display()));
+    }
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
         let mut f = std::fs::OpenOptions::new()
             .write(true)

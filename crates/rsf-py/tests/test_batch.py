@@ -108,3 +108,9 @@ def test_a_record_outside_the_manifests_folder_is_refused(tmp_path):
     df = rsf.fit_many(tmp_path / "lab" / "manifest.csv", allow_outside=True, time_col="Time(s)",
                       lp_col="Displ(microns)", mu_col="Friction", loading="protocol")
     assert list(df["status"]) == ["ok"], df.get("error")
+
+
+def test_a_non_finite_option_is_said_in_the_users_terms(tmp_path):
+    # issue 40 (defect 12): on the main, "expected value at line 1 column 34"
+    with pytest.raises(ValueError, match=r"stiffness = nan must be a finite number"):
+        rsf.fit_many([tmp_path / "x.csv"], stiffness=float("nan"))

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import sys
 from typing import Any, Optional, Sequence, Union
@@ -43,11 +44,15 @@ def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progr
     if unknown:
         raise TypeError(f"unknown option(s) {', '.join(unknown)}: use {', '.join(OPTIONS)}")
     defaults = {k: v for k, v in options.items() if v is not None}
+    if stiffness is not None:
+        defaults["stiffness"] = float(stiffness)
+    for k, v in defaults.items():
+        # said in the user's terms, not as the JSON the options travel in
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"{k} = {v} must be a finite number")
     if "law_file" in defaults:
         # absolute, so that a worker in another folder or process finds it
         defaults["law_file"] = os.path.abspath(os.fspath(defaults["law_file"]))
-    if stiffness is not None:
-        defaults["stiffness"] = float(stiffness)
     dj = json.dumps(defaults)
     _rsf.batch_check_options(dj)
     entries = [json.dumps(e) for e in _entries(manifest_or_paths, allow_outside)]
