@@ -52,6 +52,10 @@ pub struct RecordOptions {
     pub fit_slip_trend: Option<bool>,
     /// Drop over-range, sentinel and non-finite rows instead of refusing the record.
     pub drop_invalid: Option<bool>,
+    /// Read a record that does not look like a friction experiment (friction outside
+    /// 0.05–2, columns swapped, …; `rsf_fit::data::plausible`) instead of refusing it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accept_implausible: Option<bool>,
     /// Seed of the diagnosis's null calibration.
     pub seed: Option<u64>,
 }
@@ -81,6 +85,7 @@ impl RecordOptions {
             fit_stiffness: pick(&self.fit_stiffness, &d.fit_stiffness),
             fit_slip_trend: pick(&self.fit_slip_trend, &d.fit_slip_trend),
             drop_invalid: pick(&self.drop_invalid, &d.drop_invalid),
+            accept_implausible: pick(&self.accept_implausible, &d.accept_implausible),
             seed: pick(&self.seed, &d.seed),
         }
     }
@@ -121,7 +126,7 @@ pub enum Column {
 }
 
 /// The option columns, named as the fields of [`RecordOptions`].
-pub const OPTION_COLUMNS: [&str; 19] = [
+pub const OPTION_COLUMNS: [&str; 20] = [
     "stiffness",
     "time_col",
     "lp_col",
@@ -140,6 +145,7 @@ pub const OPTION_COLUMNS: [&str; 19] = [
     "fit_stiffness",
     "fit_slip_trend",
     "drop_invalid",
+    "accept_implausible",
     "seed",
 ];
 
@@ -206,6 +212,7 @@ fn set(o: &mut RecordOptions, col: &str, cell: &str) -> Result<(), String> {
         "fit_stiffness" => o.fit_stiffness = Some(flag()?),
         "fit_slip_trend" => o.fit_slip_trend = Some(flag()?),
         "drop_invalid" => o.drop_invalid = Some(flag()?),
+        "accept_implausible" => o.accept_implausible = Some(flag()?),
         "seed" => o.seed = Some(cell.parse().map_err(|_| format!("`{cell}` is not a whole number"))?),
         other => return Err(format!("column `{other}` is not an option")),
     }

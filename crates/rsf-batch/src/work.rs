@@ -46,6 +46,7 @@ fn read_options(o: &RecordOptions) -> ReadOptions {
         t_min: o.t_min,
         t_max: o.t_max,
         invalid: if o.drop_invalid == Some(true) { InvalidRows::Drop } else { InvalidRows::Error },
+        accept_implausible: o.accept_implausible == Some(true),
         ..ReadOptions::default()
     }
 }

@@ -73,6 +73,11 @@ pub(crate) struct DataArgs {
     /// row is an error naming its line and column).
     #[arg(long)]
     pub(crate) drop_invalid: bool,
+    /// Read a record that does not look like a friction experiment (friction outside 0.05–2 or
+    /// negative, the friction and load-point columns swapped, the load point backwards or at an
+    /// implausible speed) instead of refusing it; each finding is reported as a warning.
+    #[arg(long)]
+    pub(crate) accept_implausible: bool,
 }
 
 impl DataArgs {
@@ -95,6 +100,7 @@ impl DataArgs {
             } else {
                 rsf_fit::data::InvalidRows::Error
             },
+            accept_implausible: self.accept_implausible,
         };
         let rec = rsf_fit::data::read_record(path, &opts)?;
         if rec.dropped_duplicate_times > 0 {
@@ -366,6 +372,11 @@ pub(crate) struct BatchArgs {
     /// Drop over-range, sentinel and non-finite rows (reported) instead of refusing the record.
     #[arg(long)]
     pub(crate) drop_invalid: bool,
+    /// Read records that do not look like friction experiments (friction outside 0.05–2 or
+    /// negative, columns swapped, the load point backwards or at an implausible speed) instead
+    /// of refusing them; each finding is reported as a warning.
+    #[arg(long)]
+    pub(crate) accept_implausible: bool,
     /// Seed of the diagnoses' null calibration (default 1).
     #[arg(long)]
     pub(crate) seed: Option<u64>,
@@ -474,7 +485,8 @@ The manifest is a CSV file; its columns (any order; an empty cell takes the comm
   file            the record, relative to the manifest (required)
   stiffness       nominal machine stiffness k, 1/µm
   time_col, lp_col, mu_col, shear_col, normal_col, normal_stress, disp_unit, time_unit,
-  t_min, t_max, law, baseline, loading, fit_stiffness, fit_slip_trend, drop_invalid, seed
+  t_min, t_max, law, baseline, loading, fit_stiffness, fit_slip_trend, drop_invalid,
+  accept_implausible, seed
                   as the options of `rsf fit` / `rsf diagnose`
   meta_...        anything else the lab records (sample, humidity): carried into the summary
 Any other column is refused, so a misspelt option is never ignored.

@@ -14,7 +14,8 @@ use rsf_fit::segment::{SegmentOptions, detect};
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", v_range=(1e-3, 300.0),
     max_hold=1e4, max_time=14400.0, max_slip=1000.0, max_sigma_change=0.0, credible=rsf_design::CREDIBLE_DBIC,
-    draws=rsf_design::DRAWS, sequences=true, seed=1, threads=0, name="record", diagnosis=None))]
+    draws=rsf_design::DRAWS, sequences=true, seed=1, threads=0, name="record", diagnosis=None,
+    accept_implausible=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn design_json(
     py: Python<'_>,
@@ -36,8 +37,9 @@ pub fn design_json(
     threads: usize,
     name: &str,
     diagnosis: Option<String>,
+    accept_implausible: bool,
 ) -> PyResult<(String, String, String)> {
-    let rec = record(time, load_point, mu, None)?;
+    let rec = record(time, load_point, mu, None, accept_implausible)?;
     let (dopts, cancel) = diagnose_options(baseline, stiffness, loading, "auto", seed, threads)?;
     let o = DesignOptions {
         credible_dbic: credible,

@@ -13,12 +13,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A record from three arrays (and optionally the normal stress, MPa), checked as the CSV
-/// reader checks a file.
+/// reader checks a file, its plausibility included (refused unless `accept_implausible`, when
+/// each finding is returned as a warning of the record).
 pub(crate) fn record(
     time: PyReadonlyArray1<f64>,
     lp: PyReadonlyArray1<f64>,
     mu: PyReadonlyArray1<f64>,
     normal_stress: Option<PyReadonlyArray1<f64>>,
+    accept_implausible: bool,
 ) -> PyResult<Record> {
     let sn = match normal_stress {
         Some(a) => a.as_slice()?.to_vec(),
@@ -59,7 +61,32 @@ pub(crate) fn record(
             time[i]
         )));
     }
-    Ok(Record { time, load_point: lp, mu, normal_stress: sn, source: "numpy arrays".into(), ..Default::default() })
+    let mut rec =
+        Record { time, load_point: lp, mu, normal_stress: sn, source: "numpy arrays".into(), ..Default::default() };
+    let found = rsf_fit::data::plausible::check(&rec);
+    if !found.is_empty() {
+        let texts: Vec<String> = found.iter().map(rsf_fit::data::plausible::Implausible::text).collect();
+        if !accept_implausible {
+            return Err(value_error(format!(
+                "the record does not look like a friction experiment: {}. If it is right, pass accept_implausible=True",
+                texts.join("; ")
+            )));
+        }
+        rec.warnings = texts.into_iter().map(|t| format!("accepted as plausible: {t}")).collect();
+    }
+    Ok(rec)
+}
+
+/// What looks wrong with a record of three arrays (empty when it looks like a friction
+/// experiment): the words of `rsf_fit::data::plausible::check`.
+#[pyfunction]
+pub fn implausible(
+    time: PyReadonlyArray1<f64>,
+    load_point: PyReadonlyArray1<f64>,
+    mu: PyReadonlyArray1<f64>,
+) -> PyResult<Vec<String>> {
+    let rec = record(time, load_point, mu, None, true)?;
+    Ok(rec.warnings.iter().map(|w| w.trim_start_matches("accepted as plausible: ").to_string()).collect())
 }
 
 /// A closed vocabulary's value from Python's string, by the type's own `FromStr` (the one the
@@ -117,7 +144,8 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
 #[pyo3(signature = (time, load_point, mu, stiffness, law="slip", loading="protocol", fit_stiffness=false,
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
     fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
-    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0, max_iter=100))]
+    window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0, max_iter=100,
+    accept_implausible=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -147,11 +175,12 @@ pub fn fit_json(
     per_segment: bool,
     threads: usize,
     max_iter: usize,
+    accept_implausible: bool,
 ) -> PyResult<FitOut> {
     if max_iter == 0 {
         return Err(value_error("max_iter must be at least 1"));
     }
-    let rec = record(time, load_point, mu, normal_stress)?;
+    let rec = record(time, load_point, mu, normal_stress, accept_implausible)?;
     let mut opts = fit_options(law, stiffness, loading, fit_stiffness)?;
     if let Some(names) = laws {
         if names.is_empty() || names.len() > 3 {
@@ -268,7 +297,7 @@ pub(crate) fn diagnose_options(
 #[pyfunction]
 #[pyo3(signature = (time, load_point, mu, stiffness, baseline="slip", loading="protocol", seed=1, threads=0,
     normal_stress=None, normal_stress_mode="auto", report=None, name="record", progress=false,
-    stiffness_uncertainty=rsf_diagnose::STIFFNESS_UNCERTAINTY))]
+    stiffness_uncertainty=rsf_diagnose::STIFFNESS_UNCERTAINTY, accept_implausible=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn diagnose_json(
     py: Python<'_>,
@@ -286,8 +315,9 @@ pub fn diagnose_json(
     name: &str,
     progress: bool,
     stiffness_uncertainty: f64,
+    accept_implausible: bool,
 ) -> PyResult<(String, String)> {
-    let rec = record(time, load_point, mu, normal_stress)?;
+    let rec = record(time, load_point, mu, normal_stress, accept_implausible)?;
     let (mut dopts, cancel) = diagnose_options(baseline, stiffness, loading, normal_stress_mode, seed, threads)?;
     if !(stiffness_uncertainty > 0.0 && stiffness_uncertainty < 1.0) {
         return Err(value_error(format!(

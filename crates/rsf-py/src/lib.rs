@@ -189,7 +189,8 @@ fn run<'py>(
 /// Reads a lab record with the CLI's column options; returns `time_s`, `load_point_um`, `mu`
 /// (and `normal_stress_mpa` with `normal_col`).
 #[pyfunction]
-#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu", normal_col=None, drop_invalid=false))]
+#[pyo3(signature = (path, time_col="time_s", lp_col="load_point_um", mu_col="mu", normal_col=None, drop_invalid=false,
+    accept_implausible=false))]
 fn read_record_columns<'py>(
     py: Python<'py>,
     path: &str,
@@ -198,6 +199,7 @@ fn read_record_columns<'py>(
     mu_col: &str,
     normal_col: Option<&str>,
     drop_invalid: bool,
+    accept_implausible: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = ReadOptions {
         time_col: time_col.into(),
@@ -205,6 +207,7 @@ fn read_record_columns<'py>(
         mu_col: mu_col.into(),
         normal_col: normal_col.map(str::to_string),
         invalid: if drop_invalid { rsf_fit::data::InvalidRows::Drop } else { rsf_fit::data::InvalidRows::Error },
+        accept_implausible,
         ..ReadOptions::default()
     };
     let rec = read_record(Path::new(path), &opts).map_err(value_error)?;
@@ -237,6 +240,7 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_record_columns, m)?)?;
     m.add_function(wrap_pyfunction!(protocol_json, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit_json, m)?)?;
+    m.add_function(wrap_pyfunction!(fitting::implausible, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::diagnose_json, m)?)?;
     m.add_function(wrap_pyfunction!(design::design_json, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_entries, m)?)?;

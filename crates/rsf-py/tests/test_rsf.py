@@ -392,3 +392,32 @@ def test_a_report_replaces_the_old_file_whole():
         d.write_report(html)
         assert open(html, encoding="utf-8").read() == d._html
         assert os.listdir(tmp) == ["r.html"]
+
+
+def test_implausible_records_are_refused_unless_accepted():
+    """Issue 40: friction ×10, ÷1000 or sign-flipped is a ValueError naming what looks wrong
+    (the main before this test fitted them without a word); accept_implausible=True fits it
+    with a UserWarning."""
+    rec = rsf.read_record(BASALT, **COLS)
+    for scale, words in ((10.0, "×10 "), (0.001, "÷1000"), (-1.0, "sign-flipped")):
+        bad = dict(rec, mu=rec["mu"] * scale)
+        with pytest.raises(ValueError, match="does not look like a friction experiment") as e:
+            rsf.fit(bad, stiffness=0.0151, law="slip", starts=1, max_iter=2)
+        assert words in str(e.value) and "accept_implausible=True" in str(e.value)
+        with pytest.raises(ValueError, match="does not look like a friction experiment"):
+            rsf.diagnose(bad, stiffness=0.0151)
+    bad = dict(rec, mu=rec["mu"] * 0.001)
+    with pytest.warns(UserWarning, match="accepted as plausible"):
+        with pytest.warns(RuntimeWarning):  # two iterations do not converge
+            rsf.fit(bad, stiffness=0.0151, law="slip", starts=1, max_iter=2, accept_implausible=True)
+    # a file read with rsf.read_record is checked as the CLI checks it
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "flipped.csv")
+        with open(path, "w") as f:
+            f.write("time_s,load_point_um,mu\n")
+            for t, x, m in zip(rec["time_s"], rec["load_point_um"], rec["mu"]):
+                f.write(f"{t},{x},{-m}\n")
+        with pytest.raises(ValueError, match="sign-flipped"):
+            rsf.read_record(path)
+        with pytest.warns(UserWarning, match="accepted as plausible"):
+            rsf.read_record(path, accept_implausible=True)

@@ -76,6 +76,10 @@ pub struct ReadOptions {
     pub duplicate_times: DuplicateTimes,
     /// Rows with an over-range, sentinel or non-finite value: refused (default) or dropped.
     pub invalid: InvalidRows,
+    /// Read a record that does not look like a friction experiment ([`plausible::check`]:
+    /// friction outside 0.05–2 or negative, columns swapped, the load point backwards or at an
+    /// implausible speed) instead of refusing it; each finding becomes a warning of the record.
+    pub accept_implausible: bool,
 }
 
 impl Default for ReadOptions {
@@ -93,6 +97,7 @@ impl Default for ReadOptions {
             t_max: None,
             duplicate_times: DuplicateTimes::Error,
             invalid: InvalidRows::Error,
+            accept_implausible: false,
         }
     }
 }
@@ -311,8 +316,27 @@ fn read_with(
             kind: ReadErrorKind::TooFewRows { rows: rec.len(), min: MIN_ROWS, first_skipped: None },
         });
     }
+    let found = plausible::check(&rec);
+    if !found.is_empty() {
+        let texts: Vec<String> = found.iter().map(plausible::Implausible::text).collect();
+        if !opts.accept_implausible {
+            return Err(DataError {
+                file: file.to_string(),
+                line: None,
+                column: None,
+                kind: ReadErrorKind::Invalid(format!(
+                    "the record does not look like a friction experiment: {}. If it is right, read it anyway with \
+                     --accept-implausible (Python: accept_implausible=True; a manifest: accept_implausible = true)",
+                    texts.join("; ")
+                )),
+            });
+        }
+        rec.warnings.extend(texts.into_iter().map(|t| format!("accepted as plausible: {t}")));
+    }
     Ok(rec)
 }
+
+pub mod plausible;
 
 #[cfg(test)]
 mod tests;

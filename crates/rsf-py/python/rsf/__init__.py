@@ -449,7 +449,8 @@ def _write_atomic(path: str, text: str) -> None:
 
 
 def read_record(path: Union[str, os.PathLike], time_col: str = "time_s", lp_col: str = "load_point_um",
-                mu_col: str = "mu", normal_col: Optional[str] = None, drop_invalid: bool = False) -> dict:
+                mu_col: str = "mu", normal_col: Optional[str] = None, drop_invalid: bool = False,
+                accept_implausible: bool = False) -> dict:
     """Reads a lab record with rsf's one record reader (the CLI's formats and checks: comma,
     tab, semicolon with decimal comma or whitespace separated; UTF-8, UTF-16 or Windows-1252).
 
@@ -457,11 +458,15 @@ def read_record(path: Union[str, os.PathLike], time_col: str = "time_s", lp_col:
     when ``normal_col`` names a normal-stress column (MPa; it can drive the model's σ(t)).
     A cut, ragged or over-range record raises ``ValueError`` naming file, line and column;
     ``drop_invalid=True`` drops rows with over-range, sentinel or non-finite values instead.
+    A record that does not look like a friction experiment (friction outside 0.05–2 or negative,
+    the friction and load-point columns swapped, the load point backwards or at an implausible
+    speed) raises ``ValueError`` naming what looks wrong, unless ``accept_implausible=True``.
     What the reader warns of (a dropped cut last line, dropped rows) is issued as a
     ``UserWarning``.
     """
     import warnings
-    rec = _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col, drop_invalid)
+    rec = _rsf.read_record_columns(os.fspath(path), time_col, lp_col, mu_col, normal_col, drop_invalid,
+                                   accept_implausible)
     for w in rec.pop("warnings"):
         warnings.warn(f"{os.fspath(path)}: {w}", UserWarning, stacklevel=2)
     return rec
@@ -479,6 +484,13 @@ def _columns(record: Optional[Mapping[str, Any]], time, load_point, mu, normal_s
     return f64(time), f64(load_point), f64(mu), (None if normal_stress is None else f64(normal_stress))
 
 
+def _warn_accepted(accepted: bool, t, x, m, who: str) -> None:
+    """What an accepted implausible record was found to be, as ``UserWarning``s."""
+    if accepted:
+        for w in _rsf.implausible(t, x, m):
+            warnings.warn(f"{who}: accepted as plausible: {w}", UserWarning, stacklevel=3)
+
+
 def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Union[str, ThetaRate] = "slip",
         laws: Optional[Sequence[Union[str, ThetaRate]]] = None, loading: str = "protocol", fit_stiffness: bool = False,
         fit_slip_trend: bool = False, fit_alpha: Optional[str] = None, normal_stress_mode: str = "auto",
@@ -486,7 +498,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         starts: int = 4, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
         window_um: Optional[float] = None, mu0_per_segment: bool = False, weights: str = "equal",
         per_segment: bool = False, threads: int = 0, time=None, load_point=None, mu=None,
-        normal_stress=None, max_iter: int = 100) -> FitResult:
+        normal_stress=None, max_iter: int = 100, accept_implausible: bool = False) -> FitResult:
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
@@ -496,7 +508,9 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
     ``"uniform"``), ``per_segment`` (refit each step and hold alone: ``per_segment`` in the
     result), ``mcmc`` (total samples; ``chains``, ``seed``), ``progress`` (MCMC progress bar on
     stderr), ``threads`` (for the starts after the first; 0: all cores; the result does not
-    depend on it), ``max_iter`` (LM iterations per start).
+    depend on it), ``max_iter`` (LM iterations per start), ``accept_implausible`` (fit a record
+    that does not look like a friction experiment instead of raising ``ValueError``; the
+    findings are issued as ``UserWarning``).
 
     Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
     ``k``, ``g``, ``alpha``…), ``converged`` (False, with a ``RuntimeWarning``, when no start
@@ -512,7 +526,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
         mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads,
-        max_iter=max_iter)
+        max_iter=max_iter, accept_implausible=accept_implausible)
+    _warn_accepted(accept_implausible, t, x, m, "rsf.fit")
     result = FitResult(json.loads(raw), samples, names, curve)
     if not result.get("converged", True):
         # the best point found is returned, marked: ``result.converged`` is False
@@ -526,26 +541,28 @@ def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, ba
              loading: str = "protocol", seed: int = 1, threads: int = 0, normal_stress_mode: str = "auto",
              report: Optional[Union[str, os.PathLike]] = None, name: str = "record", progress: bool = False,
              time=None, load_point=None, mu=None, normal_stress=None,
-             stiffness_uncertainty: float = 0.02) -> Diagnosis:
+             stiffness_uncertainty: float = 0.02, accept_implausible: bool = False) -> Diagnosis:
     """Diagnoses a record as ``rsf diagnose`` does: a :class:`Diagnosis` (``cause``, ``gain``,
     ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, ``adequacy``, ``partial``,
     …; ``write_report``). ``cause`` is ``"unexplained"`` when no model on the menu explains the
     record's events to its noise level. ``stiffness_uncertainty`` is the nominal stiffness's
     relative uncertainty (one standard deviation), as ``--stiffness-uncertainty``.
     The result depends on the record, the options and ``seed`` only (not on ``threads``).
-    ``progress=True`` prints each finished fit on stderr.
+    ``progress=True`` prints each finished fit on stderr. ``accept_implausible`` as in :func:`fit`.
     """
     t, x, m, sn = _columns(record, time, load_point, mu, normal_stress)
     raw, html = _rsf.diagnose_json(t, x, m, stiffness, baseline, loading, seed, threads, sn, normal_stress_mode,
                                    None if report is None else os.fspath(report), name, progress,
-                                   float(stiffness_uncertainty))
+                                   float(stiffness_uncertainty), accept_implausible)
+    _warn_accepted(accept_implausible, t, x, m, "rsf.diagnose")
     return Diagnosis(json.loads(raw), html)
 
 def design(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, baseline: str = "slip",
            loading: str = "protocol", v_range=(0.001, 300.0), max_hold: float = 1e4, max_time: float = 14400.0,
            max_slip: float = 1000.0, max_sigma_change: float = 0.0, credible: float = 10.0, draws: int = 12, sequences: bool = True,
            seed: int = 1, threads: int = 0, name: str = "record", time=None, load_point=None, mu=None,
-           diagnosis: Union[Mapping[str, Any], str, os.PathLike, None] = None) -> Design:
+           diagnosis: Union[Mapping[str, Any], str, os.PathLike, None] = None,
+           accept_implausible: bool = False) -> Design:
     """Designs the next experiment as ``rsf design`` does: diagnoses the record, then ranks
     velocity steps, holds, normal-stress changes (``max_sigma_change`` > 0: the largest change
     the machine can make, as a fraction of the record's σ) and sequences of two appended at its
@@ -563,6 +580,8 @@ def design(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, base
         with open(os.fspath(diagnosis), encoding="utf-8") as f:
             diag = f.read()
     raw, html, toml = _rsf.design_json(t, x, m, stiffness, baseline, loading, (lo, hi), max_hold, max_time, max_slip,
-                                       max_sigma_change, credible, draws, sequences, seed, threads, name, diag)
+                                       max_sigma_change, credible, draws, sequences, seed, threads, name, diag,
+                                       accept_implausible)
+    _warn_accepted(accept_implausible, t, x, m, "rsf.design")
     return Design(json.loads(raw), html, toml)
 
