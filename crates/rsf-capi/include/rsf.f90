@@ -1,7 +1,8 @@
 ! rsf's C ABI for Fortran hosts (iso_c_binding): the parameter structs, the ids and every
 ! function of include/rsf.h, one module. Compile it with the host and link librsf_capi.a:
 !   gfortran -c rsf.f90 && gfortran host.f90 rsf.o librsf_capi.a -lpthread -ldl -lm
-! Variables are logs (ln V, ln θ); every function returns an RsfStatus (RSF_OK = 0) and
+! Variables are logs (ln V, ln θ), but for a mesh's calls (rsf_mesh_*), which take V and θ;
+! every function returns an RsfStatus (RSF_OK = 0) and
 ! rsf_last_error gives the calling thread's last message (a C string).
 module rsf
   use iso_c_binding
@@ -13,7 +14,10 @@ module rsf
   ! RsfForm: classic, regularized (SEAS), cut-off velocities (v0 holds V1, each state's vc its V2)
   integer(c_int32_t), parameter :: RSF_FORM_CLASSIC = 0, RSF_FORM_REGULARIZED = 1, RSF_FORM_CUTOFF = 2
   ! RsfLaw
-  integer(c_int32_t), parameter :: RSF_LAW_AGING = 0, RSF_LAW_SLIP = 1, RSF_LAW_KATO_TULLIS = 2, RSF_LAW_PRZ = 3
+  integer(c_int32_t), parameter :: RSF_LAW_AGING = 0, RSF_LAW_SLIP = 1, RSF_LAW_KATO_TULLIS = 2, RSF_LAW_PRZ = 3, &
+    RSF_LAW_AGING_NO_HEALING = 6
+  ! RsfDomain: what a mesh's calls do at V <= 0 or theta <= 0
+  integer(c_int32_t), parameter :: RSF_DOMAIN_REFUSE = 0, RSF_DOMAIN_CONTINUE = 1
   type, bind(c) :: RsfFrictionParams
     integer(c_int32_t) :: version
     integer(c_int32_t) :: form
@@ -101,6 +105,44 @@ module rsf
       type(RsfStateParams), intent(in) :: sp(*)
       real(c_double), intent(in) :: ln_theta(*), tau(*), sigma(*), eta(*)
       real(c_double), intent(inout) :: ln_v(*)
+      integer(c_int) :: st
+    end function
+    ! a mesh: parameters checked once (rsf_mesh_new), then evaluations in V and theta
+    function rsf_mesh_new(n, fp, sp, domain, mesh) bind(c, name="rsf_mesh_new") result(st)
+      import
+      integer(c_size_t), value :: n
+      type(RsfFrictionParams), intent(in) :: fp(*)
+      type(RsfStateParams), intent(in) :: sp(*)
+      integer(c_int32_t), value :: domain
+      type(c_ptr), intent(out) :: mesh
+      integer(c_int) :: st
+    end function
+    subroutine rsf_mesh_free(mesh) bind(c, name="rsf_mesh_free")
+      import
+      type(c_ptr), value :: mesh
+    end subroutine
+    function rsf_mesh_friction(mesh, n, v, theta, mu) bind(c, name="rsf_mesh_friction") result(st)
+      import
+      type(c_ptr), value :: mesh
+      integer(c_size_t), value :: n
+      real(c_double), intent(in) :: v(*), theta(*)
+      real(c_double), intent(out) :: mu(*)
+      integer(c_int) :: st
+    end function
+    function rsf_mesh_partials(mesh, n, v, theta, dmu_dv, dmu_dtheta) bind(c, name="rsf_mesh_partials") result(st)
+      import
+      type(c_ptr), value :: mesh
+      integer(c_size_t), value :: n
+      real(c_double), intent(in) :: v(*), theta(*)
+      real(c_double), intent(out) :: dmu_dv(*), dmu_dtheta(*)
+      integer(c_int) :: st
+    end function
+    function rsf_mesh_state_rate(mesh, n, v, theta, dtheta_dt) bind(c, name="rsf_mesh_state_rate") result(st)
+      import
+      type(c_ptr), value :: mesh
+      integer(c_size_t), value :: n
+      real(c_double), intent(in) :: v(*), theta(*)
+      real(c_double), intent(out) :: dtheta_dt(*)
       integer(c_int) :: st
     end function
   end interface

@@ -35,6 +35,8 @@ typedef enum RsfLaw {
   RSF_LAW_KATO_TULLIS = 2,
   // Perrin–Rice–Zheng: dθ/dt = 1 − (Vθ/(2Dc))².
   RSF_LAW_PRZ = 3,
+  // Aging without healing: dθ/dt = −Vθ/Dc (QDYN's `itheta_law = 0`; no steady state).
+  RSF_LAW_AGING_NO_HEALING = 6,
 } RsfLaw;
 
 // Friction forms by id.
@@ -50,6 +52,18 @@ typedef enum RsfForm {
   // Ψ comes from `rsf_state_term`, not `rsf_psi`; there is no slip-rate solve for it.
   RSF_FORM_CUTOFF = 2,
 } RsfForm;
+
+// What a mesh does at an element with V ≤ 0 or θ ≤ 0 (or V, θ not finite).
+typedef enum RsfDomain {
+  // Refuse the call (`RSF_BAD_INPUT`), naming the element, V and θ.
+  RSF_DOMAIN_REFUSE = 0,
+  // Evaluate each closed form as written at the signed values, NaN where it is undefined.
+  RSF_DOMAIN_CONTINUE = 1,
+} RsfDomain;
+
+// A mesh of elements whose parameters were checked once (`rsf_mesh_new`); opaque to C.
+// Immutable after it is made: calls from several threads on one mesh are safe.
+typedef struct RsfMesh RsfMesh;
 
 // Friction parameters of one element.
 typedef struct RsfFrictionParams {
@@ -192,5 +206,58 @@ enum RsfStatus rsf_batch_partials(uintptr_t n,
                                   double *df_dln_v,
                                   double *df_dln_theta,
                                   double *ln_theta_rate_out);
+
+// Makes a mesh of `n` elements from their friction and state structs (one state variable
+// per element), checking every element as the batch calls do; `*mesh` receives it (free it
+// with `rsf_mesh_free`). `domain` is an `RsfDomain` id: what the evaluations do at V ≤ 0 or
+// θ ≤ 0 (docs/faultsim.md). On failure `*mesh` is null and the first bad element is named.
+//
+// # Safety
+// `fp` and `sp` must point to `n` valid values and `mesh` to one writable pointer (nulls are
+// refused).
+enum RsfStatus rsf_mesh_new(uintptr_t n,
+                            const struct RsfFrictionParams *fp,
+                            const struct RsfStateParams *sp,
+                            int32_t domain,
+                            struct RsfMesh **mesh);
+
+// Frees a mesh made by `rsf_mesh_new` (null is allowed and does nothing).
+//
+// # Safety
+// `mesh` must be null or a mesh from `rsf_mesh_new` not freed before, and no call may be
+// using it.
+void rsf_mesh_free(struct RsfMesh *mesh);
+
+// Friction f of every element at (V, θ) (`n` must be the mesh's size).
+//
+// # Safety
+// `mesh` must be a live mesh from `rsf_mesh_new`; `v`, `theta` and `mu` must point to `n`
+// values, `mu` overlapping neither input (nulls are refused).
+enum RsfStatus rsf_mesh_friction(const struct RsfMesh *mesh,
+                                 uintptr_t n,
+                                 const double *v,
+                                 const double *theta,
+                                 double *mu);
+
+// ∂f/∂V and ∂f/∂θ of every element at (V, θ) (`n` must be the mesh's size).
+//
+// # Safety
+// As `rsf_mesh_friction`, with the two outputs overlapping nothing.
+enum RsfStatus rsf_mesh_partials(const struct RsfMesh *mesh,
+                                 uintptr_t n,
+                                 const double *v,
+                                 const double *theta,
+                                 double *dmu_dv,
+                                 double *dmu_dtheta);
+
+// dθ/dt of every element at (V, θ) (`n` must be the mesh's size).
+//
+// # Safety
+// As `rsf_mesh_friction`.
+enum RsfStatus rsf_mesh_state_rate(const struct RsfMesh *mesh,
+                                   uintptr_t n,
+                                   const double *v,
+                                   const double *theta,
+                                   double *dtheta_dt);
 
 #endif  /* RSF_H */

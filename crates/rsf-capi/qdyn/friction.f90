@@ -2,8 +2,9 @@
 ! it replaces QDYN's src/friction.f90 in a copy of a QDYN checkout (crates/rsf-capi/qdyn/run.sh
 ! does that; docs/faultsim.md describes the patch), keeping the module's name and its public
 ! interface, so QDYN's other sources compile against it unchanged. Every rate-and-state
-! evaluation QDYN asks for goes through rsf's C ABI (include/rsf.f90, linked librsf_capi.a),
-! one batch call over the mesh:
+! evaluation QDYN asks for goes through rsf's C ABI (include/rsf.f90, linked librsf_capi):
+! a mesh (rsf_mesh_new) holds every node's parameters, checked once, and each call is one
+! rsf_mesh_* call over the mesh in QDYN's own variables V and theta.
 !
 !   QDYN's i_rns_law   rsf's form                  parameters
 !   0 classic          RSF_FORM_CLASSIC            f0 = mu_star, V0 = v_star
@@ -12,33 +13,28 @@
 !   3 CNS              not rate-and-state: QDYN's own friction_cns module serves it
 !
 !   QDYN's itheta_law  rsf's law
+!   0 aging without    RSF_LAW_AGING_NO_HEALING (dθ/dt = −Vθ/Dc)
+!     healing
 !   1 aging            RSF_LAW_AGING
 !   2 slip             RSF_LAW_SLIP
-!   0 aging without    none: rsf does not provide this law (dθ/dt = −Vθ/Dc, no healing);
-!     healing          a run that asks for it stops with that message
 !
-! rsf works in logs (ln V, ln θ): mu = f, dmu/dV = (∂f/∂ln V)/V, dmu/dθ = (∂f/∂ln θ)/θ and
-! dθ/dt = θ d(ln θ)/dt. QDYN integrates V itself, and a trial stage of its solvers can reach
-! V ≤ 0, where rate-and-state friction is not defined (QDYN's own formulas go on there: the
-! log gives NaN for μ while the partials stay finite, for the aging law; the slip law's give
-! NaN too). Under QDYN's Runge-Kutta-Fehlberg solvers (SOLVER = 2 and 3), such an element
-! gets NaN for every output, the IEEE answer outside the domain, and the solver shortens the
-! step (both check their stages or error for NaN). QDYN's Bulirsch-Stoer solver (SOLVER = 1)
-! has no such check and would carry the NaN on, so there the run stops, naming the element
-! and V. Any other refusal by rsf (parameters
-! out of range) stops the run with rsf's message naming the element.
+! The mesh is made in set_theta_star, which QDYN calls once its parameters are set (at
+! initialisation, and in its unit tests after each change of law); it is made again if a call
+! finds another law or mesh size than the mesh's (QDYN's unit tests switch itheta_law without
+! calling set_theta_star). A host that changes a parameter array must call set_theta_star.
 !
-! Two things are kept between calls, neither changing a number: the elements' parameter
-! structs, rebuilt only when a law or a parameter array differs from the last call's (QDYN's
-! unit tests change them between calls); and the last evaluation, reused when V and θ are
-! also bit-for-bit the same (QDYN asks for the state rate and then for the partials at the
-! same (V, θ) in every right-hand side; one rsf call gives both).
+! V <= 0: QDYN integrates V itself, and a trial stage of its solvers can reach V <= 0, where
+! rate-and-state friction is not defined. The mesh is made with RSF_DOMAIN_CONTINUE: there
+! each closed form is evaluated as written at the signed V (a/V, b/theta, 1 - V theta/Dc, the
+! regularized form's odd continuation), NaN where the formula is undefined (the log in the
+! classic friction, the slip law's rate) — the numbers QDYN's own friction module returns, so
+! both of QDYN's solvers take the same steps on rsf's friction as on their own. Any refusal by
+! rsf (parameters out of range at set-up, a non-finite result at V > 0) stops the run with
+! rsf's message naming the node.
 module friction
 
   use iso_c_binding
-  use, intrinsic :: ieee_arithmetic, only : ieee_value, ieee_quiet_nan
   use rsf
-  use constants, only : SOLVER_TYPE
   use problem_class, only : problem_type
 
   implicit none
@@ -46,41 +42,21 @@ module friction
 
   public :: set_theta_star, friction_mu, dmu_dv_dtheta, dtheta_dt
 
-  ! the parameters the structs were built from, and the structs
-  integer, save :: last_rns_law = -1, last_theta_law = -1
-  double precision, dimension(:), allocatable, save :: last_a, last_b, last_dc, last_mu_star, &
-    last_v_star, last_v1, last_v2
-  type(RsfFrictionParams), dimension(:), allocatable, save :: fp
-  type(RsfStateParams), dimension(:), allocatable, save :: sp
-  ! the last evaluation: its V and θ (valid while the structs are unchanged) and its outputs
-  logical, save :: have_last = .false.
-  double precision, dimension(:), allocatable, save :: last_v, last_theta, last_mu, last_dmu_dv, &
-    last_dmu_dtheta, last_dth_dt
+  ! the mesh, and the laws and size it was made for
+  type(c_ptr), save :: mesh = c_null_ptr
+  integer, save :: mesh_rns_law = -1, mesh_theta_law = -1, mesh_nn = -1
 
 contains
 
 !--------------------------------------------------------------------------------------
-! Whether the laws and parameters are those the structs were built from, bit for bit.
-logical function same_parameters(pb)
+! Makes the mesh from QDYN's laws and parameter arrays (table above).
+subroutine make_mesh(pb)
 
   type(problem_type), intent(in) :: pb
-
-  same_parameters = .false.
-  if (.not. allocated(fp)) return
-  if (size(fp) /= pb%mesh%nn) return
-  if (last_rns_law /= pb%i_rns_law .or. last_theta_law /= pb%itheta_law) return
-  same_parameters = all(last_a == pb%a) .and. all(last_b == pb%b) .and. all(last_dc == pb%dc) &
-    .and. all(last_mu_star == pb%mu_star) .and. all(last_v_star == pb%v_star) &
-    .and. all(last_v1 == pb%v1) .and. all(last_v2 == pb%v2)
-
-end function same_parameters
-
-!--------------------------------------------------------------------------------------
-! The elements' parameter structs from QDYN's laws and parameter arrays (table above).
-subroutine build_structs(pb)
-
-  type(problem_type), intent(in) :: pb
+  type(RsfFrictionParams), dimension(:), allocatable :: fp
+  type(RsfStateParams), dimension(:), allocatable :: sp
   integer(c_int32_t) :: form, law
+  integer(c_int) :: st
   integer :: i, n
 
   n = pb%mesh%nn
@@ -92,21 +68,20 @@ subroutine build_structs(pb)
   case (2)
     form = RSF_FORM_REGULARIZED
   case (3)
-    stop 'friction (rsf): the CNS model (i_rns_law = 3) is not rate-and-state friction; QDYN serves it'
+    return ! CNS: QDYN's own friction_cns module serves it
   case default
     stop 'friction (rsf): unknown friction law type'
   end select
   select case (pb%itheta_law)
+  case (0)
+    law = RSF_LAW_AGING_NO_HEALING
   case (1)
     law = RSF_LAW_AGING
   case (2)
     law = RSF_LAW_SLIP
-  case (0)
-    stop 'friction (rsf): rsf does not provide the aging law without healing (itheta_law = 0)'
   case default
     stop 'friction (rsf): unknown state evolution law type'
   end select
-  if (allocated(fp)) deallocate(fp, sp)
   allocate(fp(n), sp(n))
   do i = 1, n
     if (form == RSF_FORM_CUTOFF) then
@@ -117,22 +92,45 @@ subroutine build_structs(pb)
       sp(i) = RsfStateParams(RSF_ABI_VERSION, law, pb%b(i), pb%dc(i), 0d0)
     end if
   end do
-  last_rns_law = pb%i_rns_law
-  last_theta_law = pb%itheta_law
-  last_a = pb%a
-  last_b = pb%b
-  last_dc = pb%dc
-  last_mu_star = pb%mu_star
-  last_v_star = pb%v_star
-  last_v1 = pb%v1
-  last_v2 = pb%v2
-  have_last = .false.
+  call rsf_mesh_free(mesh)
+  mesh = c_null_ptr
+  st = rsf_mesh_new(int(n, c_size_t), fp, sp, RSF_DOMAIN_CONTINUE, mesh)
+  call check(st, 'rsf_mesh_new')
+  mesh_rns_law = pb%i_rns_law
+  mesh_theta_law = pb%itheta_law
+  mesh_nn = n
 
-end subroutine build_structs
+end subroutine make_mesh
+
+!--------------------------------------------------------------------------------------
+! The mesh for pb: made again when the laws or the size are not those it was made for.
+subroutine ensure_mesh(pb)
+
+  type(problem_type), intent(in) :: pb
+
+  if (mesh_rns_law /= pb%i_rns_law .or. mesh_theta_law /= pb%itheta_law .or. mesh_nn /= pb%mesh%nn &
+      .or. .not. c_associated(mesh)) call make_mesh(pb)
+
+end subroutine ensure_mesh
+
+!--------------------------------------------------------------------------------------
+! Stops the run with rsf's message when a call failed.
+subroutine check(st, call_name)
+
+  integer(c_int), intent(in) :: st
+  character(len=*), intent(in) :: call_name
+
+  if (st /= RSF_OK) then
+    write (0, '(a,a,a,i0,a,a)') ' friction (rsf): ', call_name, ' returned ', st, ': ', rsf_error_message()
+    stop 'friction (rsf): rsf refused the evaluation'
+  end if
+
+end subroutine check
 
 !--------------------------------------------------------------------------------------
 ! QDYN's normalisation of θ, kept for QDYN's other modules (rsf does not use it): Dc/V* for
-! the classic and regularized laws, Dc/V2 with cut-offs, 1 for CNS.
+! the classic and regularized laws, Dc/V2 with cut-offs, 1 for CNS. QDYN calls this once its
+! parameters are set, so the mesh is made here.
 subroutine set_theta_star(pb)
 
   type(problem_type), intent(inout) :: pb
@@ -147,95 +145,23 @@ subroutine set_theta_star(pb)
   case default
     stop 'set_theta_star (rsf): unknown friction law type'
   end select
+  call make_mesh(pb)
 
 end subroutine set_theta_star
-
-!--------------------------------------------------------------------------------------
-! Friction, its partials and the state rate at every node, from one rsf_batch_partials call.
-subroutine rsf_evaluate(pb, v, theta, mu, dmu_dv, dmu_dtheta, dth_dt)
-
-  type(problem_type), intent(in) :: pb
-  double precision, dimension(pb%mesh%nn), intent(in) :: v, theta
-  double precision, dimension(pb%mesh%nn), intent(out) :: mu, dmu_dv, dmu_dtheta, dth_dt
-  double precision, dimension(pb%mesh%nn) :: ln_v, ln_theta, df_dln_v, df_dln_theta, rate
-  logical, dimension(pb%mesh%nn) :: inside
-  double precision :: nan
-  integer(c_int) :: st
-  integer :: i, n
-
-  n = pb%mesh%nn
-  if (.not. same_parameters(pb)) call build_structs(pb)
-  if (have_last) then
-    if (all(last_v == v) .and. all(last_theta == theta)) then
-      mu = last_mu
-      dmu_dv = last_dmu_dv
-      dmu_dtheta = last_dmu_dtheta
-      dth_dt = last_dth_dt
-      return
-    end if
-  end if
-
-  ! elements outside the domain (V or θ not positive and finite) are evaluated at V = θ = 1
-  ! and their outputs replaced by NaN below
-  inside = v > 0d0 .and. v <= huge(v) .and. theta > 0d0 .and. theta <= huge(theta)
-  if (all(inside)) then
-    ln_v = log(v)
-    ln_theta = log(theta)
-  else
-    where (inside)
-      ln_v = log(v)
-      ln_theta = log(theta)
-    elsewhere
-      ln_v = 0d0
-      ln_theta = 0d0
-    end where
-  end if
-  st = rsf_batch_partials(int(n, c_size_t), fp, sp, ln_v, ln_theta, mu, df_dln_v, df_dln_theta, rate)
-  if (st /= RSF_OK) then
-    write (0, '(a,i0,a,a)') ' friction (rsf): rsf_batch_partials returned ', st, ': ', rsf_error_message()
-    stop 'friction (rsf): rsf refused the evaluation'
-  end if
-  dmu_dv = df_dln_v / v
-  dmu_dtheta = df_dln_theta / theta
-  dth_dt = theta * rate
-  if (.not. all(inside)) then
-    if (SOLVER_TYPE /= 2 .and. SOLVER_TYPE /= 3) then
-      i = findloc(inside, .false., dim=1)
-      write (0, '(a,i0,a,es12.4,a,es12.4,a)') ' friction (rsf): the solver asked for friction at element ', i, &
-        ', V = ', v(i), ' m/s, theta = ', theta(i), ' s: rate-and-state friction is defined for V > 0 and theta > 0'
-      stop 'friction (rsf): outside V > 0, and this solver does not reject a NaN step (SOLVER = 2 or 3 does)'
-    end if
-    nan = ieee_value(nan, ieee_quiet_nan)
-    where (.not. inside)
-      mu = nan
-      dmu_dv = nan
-      dmu_dtheta = nan
-      dth_dt = nan
-    end where
-  end if
-
-  last_v = v
-  last_theta = theta
-  last_mu = mu
-  last_dmu_dv = dmu_dv
-  last_dmu_dtheta = dmu_dtheta
-  last_dth_dt = dth_dt
-  have_last = .true.
-
-end subroutine rsf_evaluate
 
 !--------------------------------------------------------------------------------------
 function friction_mu(v, theta, pb) result(mu)
 
   type(problem_type), intent(in) :: pb
   double precision, dimension(pb%mesh%nn), intent(in) :: v, theta
-  double precision, dimension(pb%mesh%nn) :: mu, dmu_dv, dmu_dtheta, dth_dt
+  double precision, dimension(pb%mesh%nn) :: mu
 
   if (pb%i_rns_law == 3) then
     write (6, *) "friction.f90::friction_mu is deprecated for the CNS model"
     stop
   end if
-  call rsf_evaluate(pb, v, theta, mu, dmu_dv, dmu_dtheta, dth_dt)
+  call ensure_mesh(pb)
+  call check(rsf_mesh_friction(mesh, int(pb%mesh%nn, c_size_t), v, theta, mu), 'rsf_mesh_friction')
 
 end function friction_mu
 
@@ -248,13 +174,13 @@ subroutine dtheta_dt(v, tau, sigma, theta, theta2, dth_dt, dth2_dt, pb)
   double precision, dimension(pb%mesh%nn), intent(in) :: v, tau, sigma
   double precision, dimension(pb%mesh%nn), intent(in) :: theta, theta2
   double precision, dimension(pb%mesh%nn) :: dth_dt, dth2_dt
-  double precision, dimension(pb%mesh%nn) :: mu, dmu_dv, dmu_dtheta
 
   if (pb%i_rns_law == 3) then
     ! CNS: porosity and its rate come from QDYN's own CNS module
     call dphi_dt(v, tau, sigma, theta, theta2, dth_dt, dth2_dt, pb)
   else
-    call rsf_evaluate(pb, v, theta, mu, dmu_dv, dmu_dtheta, dth_dt)
+    call ensure_mesh(pb)
+    call check(rsf_mesh_state_rate(mesh, int(pb%mesh%nn, c_size_t), v, theta, dth_dt), 'rsf_mesh_state_rate')
   end if
 
 end subroutine dtheta_dt
@@ -265,13 +191,13 @@ subroutine dmu_dv_dtheta(dmu_dv, dmu_dtheta, v, theta, pb)
   type(problem_type), intent(in) :: pb
   double precision, dimension(pb%mesh%nn), intent(in) :: v, theta
   double precision, dimension(pb%mesh%nn), intent(out) :: dmu_dv, dmu_dtheta
-  double precision, dimension(pb%mesh%nn) :: mu, dth_dt
 
   if (pb%i_rns_law == 3) then
     write (6, *) "friction.f90::dmu_dv_dtheta is deprecated for the CNS model"
     stop
   end if
-  call rsf_evaluate(pb, v, theta, mu, dmu_dv, dmu_dtheta, dth_dt)
+  call ensure_mesh(pb)
+  call check(rsf_mesh_partials(mesh, int(pb%mesh%nn, c_size_t), v, theta, dmu_dv, dmu_dtheta), 'rsf_mesh_partials')
 
 end subroutine dmu_dv_dtheta
 

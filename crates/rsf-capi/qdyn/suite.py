@@ -84,6 +84,9 @@ def main():
         if "vs_other_var1" in s:
             line += f"   other build {s['vs_other_var1']:.2e} {s['vs_other_var2']:.2e}"
         print(line)
+    passed = sum(1 for s in summary.values() if s["passed"])
+    print(f"cases: {passed} of {len(summary)} pass QDYN's criterion against its frozen results"
+          + (f"; the suite stopped: {crashed}" if crashed else ""))
     sys.exit(code)
 
 

@@ -2,8 +2,8 @@
 
 use crate::{RSF_ABI_VERSION, RsfFrictionParams, RsfLaw, RsfStateParams, RsfStatus, fail};
 use rsf_core::element::{Friction, cutoff_friction, cutoff_psi_term, friction, psi_term};
-use rsf_core::{FrictionForm, LnArgs, StateLaw};
-use rsf_laws::{Aging, KatoTullis, Law, Prz, Slip};
+use rsf_core::{FrictionForm, LnArgs, StateArgs, StateLaw};
+use rsf_laws::{Aging, AgingNoHealing, KatoTullis, Law, Prz, Slip};
 
 /// A friction form of this ABI: one of rsf-core's, or the cut-off form (whose parameters,
 /// V1 and each state's V2, travel in the existing fields).
@@ -93,6 +93,7 @@ pub(crate) enum AbiLaw {
     Slip,
     KatoTullis { vc: f64 },
     Prz,
+    NoHealing,
 }
 
 impl AbiLaw {
@@ -117,6 +118,7 @@ impl AbiLaw {
             Law::KatoTullis if s.vc.is_finite() && s.vc > 0.0 => Ok(AbiLaw::KatoTullis { vc: s.vc }),
             Law::KatoTullis => Err(fail(RsfStatus::RsfBadInput, format!("Kato–Tullis needs vc > 0 (got {})", s.vc))),
             Law::Prz => Ok(AbiLaw::Prz),
+            Law::AgingNoHealing => Ok(AbiLaw::NoHealing),
             // this ABI's rates take no shear-stress rate, which Nagata's law needs
             Law::Nagata => Err(fail(
                 RsfStatus::RsfUnknownId,
@@ -135,6 +137,7 @@ impl AbiLaw {
             AbiLaw::Slip => Slip.theta_scale(),
             AbiLaw::KatoTullis { vc } => KatoTullis { vc }.theta_scale(),
             AbiLaw::Prz => Prz.theta_scale(),
+            AbiLaw::NoHealing => AgingNoHealing.theta_scale(),
         }
     }
 
@@ -146,6 +149,22 @@ impl AbiLaw {
             AbiLaw::Slip => Slip.ln_theta_rate(a),
             AbiLaw::KatoTullis { vc } => KatoTullis { vc }.ln_theta_rate(a),
             AbiLaw::Prz => Prz.ln_theta_rate(a),
+            AbiLaw::NoHealing => AgingNoHealing.ln_theta_rate(a),
+        }
+    }
+
+    /// dθ/dt in the plain variables, V and θ of either sign: each law's closed form as written
+    /// (`StateLaw::theta_rate`), so outside V > 0, θ > 0 it is the formula's continuation where
+    /// the formula is defined (Aging's 1 − Vθ/Dc) and NaN where it is not (Slip's ln Ω).
+    #[inline]
+    pub(crate) fn rate(self, v: f64, theta: f64, dc: f64, b: f64) -> f64 {
+        let s = StateArgs::new(v, theta, dc, b);
+        match self {
+            AbiLaw::Aging => Aging.theta_rate(&s),
+            AbiLaw::Slip => Slip.theta_rate(&s),
+            AbiLaw::KatoTullis { vc } => KatoTullis { vc }.theta_rate(&s),
+            AbiLaw::Prz => Prz.theta_rate(&s),
+            AbiLaw::NoHealing => AgingNoHealing.theta_rate(&s),
         }
     }
 }

@@ -14,9 +14,13 @@
 
 mod batch;
 mod form;
+mod mesh;
 
 pub use batch::{rsf_batch_partials, rsf_batch_rates, rsf_batch_solve_slip_rate};
 use form::{form_of, with_law};
+pub use mesh::{
+    RsfDomain, RsfMesh, rsf_mesh_free, rsf_mesh_friction, rsf_mesh_new, rsf_mesh_partials, rsf_mesh_state_rate,
+};
 use rsf_core::element::{SlipRateError, psi_term, solve_slip_rate};
 use rsf_laws::Law;
 use std::cell::RefCell;
@@ -56,6 +60,8 @@ pub enum RsfLaw {
     RsfLawKatoTullis = 2,
     /// Perrin–Rice–Zheng: dθ/dt = 1 − (Vθ/(2Dc))².
     RsfLawPrz = 3,
+    /// Aging without healing: dθ/dt = −Vθ/Dc (QDYN's `itheta_law = 0`; no steady state).
+    RsfLawAgingNoHealing = 6,
 }
 
 impl RsfLaw {
@@ -69,6 +75,7 @@ impl RsfLaw {
             Law::Slip => Some(RsfLaw::RsfLawSlip),
             Law::KatoTullis => Some(RsfLaw::RsfLawKatoTullis),
             Law::Prz => Some(RsfLaw::RsfLawPrz),
+            Law::AgingNoHealing => Some(RsfLaw::RsfLawAgingNoHealing),
             Law::Nagata | Law::AgingSlip => None,
         }
     }

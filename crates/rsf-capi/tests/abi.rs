@@ -179,6 +179,24 @@ fn fortran_host_through_iso_c_binding() {
     assert!(value(&out, "batch partials error") == 0.0, "{out}");
     let refused = out.lines().find(|l| l.starts_with("cutoff with kato-tullis")).unwrap();
     assert!(refused.contains("-> 1: element 2:") && refused.contains("Kato-Tullis"), "{refused}");
+    // a mesh (an element at V < 0 continued as QDYN's own formulas, one without healing)
+    assert!(value(&out, "mesh partials error") < 1e-15, "{out}");
+    assert!(value(&out, "mesh rate error") < 1e-15, "{out}");
+}
+
+/// A host with a mesh: the fault's parameters checked once, partials and rates in V and θ
+/// equal to the host's own closed forms, and V < 0 refused or continued by the policy.
+#[test]
+fn c_host_with_a_mesh() {
+    if !have("gcc") {
+        println!("SKIP: gcc not installed; the C example was not run");
+        return;
+    }
+    let out = compile_and_run("gcc", "c/mesh.c", "rsf_capi_mesh");
+    println!("{out}");
+    assert!(out.contains("mesh: ok"), "{out}");
+    assert!(value(&out, "largest relative difference from the host's closed forms:") < 1e-13, "{out}");
+    assert!(out.contains("refuse at V < 0: 1: element 5:"), "{out}");
 }
 
 #[test]

@@ -43,7 +43,7 @@ const ASINH_LINEAR_L: f64 = 20.0;
 /// `asinh(e^l)` and its derivative `1/sqrt(1 + e^(−2l))`, without overflow for either sign of
 /// `l`, sharing one exponential.
 #[inline]
-pub(crate) fn asinh_exp_and_slope(l: f64) -> (f64, f64) {
+pub fn asinh_exp_and_slope(l: f64) -> (f64, f64) {
     if l > ASINH_LINEAR_L {
         // what the next branch gives, exactly
         (l + std::f64::consts::LN_2, 1.0)

@@ -56,7 +56,7 @@ pub mod vocabulary;
 pub use serde as __serde;
 mod system;
 
-pub use friction::FrictionForm;
+pub use friction::{FrictionForm, asinh_exp_and_slope};
 pub use law::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
 pub use loading::{LoadRecord, Loading, NormalStressRecord, Piece, Segment, SegmentEnd, normal_stress_varies};
 pub use model::{Model, ModelError, StateVariable};

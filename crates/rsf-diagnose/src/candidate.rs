@@ -510,7 +510,7 @@ fn library_start(builtin: Option<Law>, base_law: &str) -> Vec<(&'static str, f64
     match builtin {
         Some(Law::AgingSlip) if base_law == Law::Aging.name() => vec![("w", 1.0 - MIXTURE_START_OFF_BOUND)],
         Some(Law::AgingSlip) => vec![("w", MIXTURE_START_OFF_BOUND)],
-        Some(Law::Aging | Law::Slip | Law::KatoTullis | Law::Prz | Law::Nagata) | None => vec![],
+        Some(Law::Aging | Law::Slip | Law::KatoTullis | Law::Prz | Law::Nagata | Law::AgingNoHealing) | None => vec![],
     }
 }
 

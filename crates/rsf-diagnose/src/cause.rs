@@ -361,7 +361,9 @@ pub(super) fn builtin(law: Law) -> Arc<dyn rsf_core::DynStateLaw> {
 
 /// The laws of the registry tried as the evolution law besides the other classic law: every
 /// built-in law but the two classic ones (the baseline and the other law, tried first) and the
-/// Kato–Tullis law (its own cause, `cutoff_velocity`, with its Vc profile), then every law a
+/// Kato–Tullis law (its own cause, `cutoff_velocity`, with its Vc profile) and the Aging law
+/// without healing (no steady state: it cannot describe the steady sliding every lab record
+/// starts from, and a fit cannot start it there), then every law a
 /// program registered (a Rust type, a text file, a Python function) in the order registered.
 /// Exhaustive over the built-in laws: a new one fails to compile here until the diagnosis
 /// decides whether it is a candidate.
@@ -369,7 +371,7 @@ pub(super) fn library_laws() -> Vec<rsf_laws::LawEntry> {
     rsf_laws::registry::all()
         .into_iter()
         .filter(|e| match e.builtin() {
-            Some(Law::Aging | Law::Slip | Law::KatoTullis) => false,
+            Some(Law::Aging | Law::Slip | Law::KatoTullis | Law::AgingNoHealing) => false,
             Some(Law::Prz | Law::Nagata | Law::AgingSlip) => true,
             None => e.candidate(),
         })

@@ -12,6 +12,7 @@
 //! | `prz` | [`Prz`] | `1 − (Ω/2)²` |
 //! | `nagata` | [`Nagata`] | `1 − Ω − (c/b) θ dτ/dt` |
 //! | `aging-slip` | [`AgingSlip`] | `w (1 − Ω) − (1 − w) Ω ln Ω` |
+//! | `aging-no-healing` | [`AgingNoHealing`] | `−Ω` (no steady state) |
 //!
 //! ```
 //! use rsf_core::{Model, StateVariable};
@@ -27,10 +28,12 @@
 
 mod aging_slip;
 pub mod expr;
+mod no_healing;
 pub mod registry;
 pub mod text_law;
 
 pub use aging_slip::AgingSlip;
+pub use no_healing::AgingNoHealing;
 
 pub use registry::{LawEntry, LawParameter, Start};
 use rsf_core::{DynStateLaw, Jet, LnArgs, Real, StateArgs, StateLaw};
@@ -282,6 +285,8 @@ pub enum Law {
     Nagata,
     /// [`AgingSlip`].
     AgingSlip,
+    /// [`AgingNoHealing`].
+    AgingNoHealing,
 }
 
 rsf_core::vocabulary!(Law, "law", {
@@ -291,6 +296,7 @@ rsf_core::vocabulary!(Law, "law", {
     Prz => "prz",
     Nagata => "nagata",
     AgingSlip => "aging-slip",
+    AgingNoHealing => "aging-no-healing",
 });
 
 impl Law {
@@ -303,13 +309,14 @@ impl Law {
             Law::Prz => "PRZ",
             Law::Nagata => "Nagata",
             Law::AgingSlip => "Aging–Slip",
+            Law::AgingNoHealing => "Aging without healing",
         }
     }
 
     /// The law's own parameters: name, unit, physical range, fitting scale and start.
     pub fn specs(self) -> &'static [LawParameter] {
         match self {
-            Law::Aging | Law::Slip | Law::Prz => &[],
+            Law::Aging | Law::Slip | Law::Prz | Law::AgingNoHealing => &[],
             // µm/s: from far below any lab slip rate to far above; spans decades, so ln Vc;
             // starts at the record's slowest load point, where a cut-off first shows
             Law::KatoTullis => &[LawParameter {
@@ -352,6 +359,7 @@ impl Law {
             Law::Prz => 3,
             Law::Nagata => 4,
             Law::AgingSlip => 5,
+            Law::AgingNoHealing => 6,
         }
     }
 
@@ -370,6 +378,7 @@ impl Law {
             Law::Prz => Arc::new(Prz),
             Law::Nagata => Arc::new(Nagata { c: need("c")? }),
             Law::AgingSlip => Arc::new(AgingSlip { w: need("w")? }),
+            Law::AgingNoHealing => Arc::new(AgingNoHealing),
         })
     }
 
@@ -414,6 +423,10 @@ mod tests {
                 let l = AgingSlip { w: 0.3 };
                 Box::new(move |s| (l.ln_theta_rate(s), l.theta_rate(&s.state_args())))
             }),
+            (
+                "aging-no-healing",
+                Box::new(|s| (AgingNoHealing.ln_theta_rate(s), AgingNoHealing.theta_rate(&s.state_args()))),
+            ),
         ];
         for &(x, z, dc) in
             &[(0.3, 1.1, 2.07), (-20.0, 25.0, 8000.0), (5.0, -4.0, 0.1), (-3.0, 3.0 + 2.07f64.ln(), 2.07)]

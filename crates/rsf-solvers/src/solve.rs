@@ -131,23 +131,29 @@ impl Problem {
 
 /// The state vector (ln V, ln θ_i, slip) a problem starts from: steady state at `v_init`, or
 /// `v_init` with the given `initial_theta`.
+/// With `initial_theta` no steady state is computed, so a law without one (the Aging law
+/// without healing) can start from its given θ.
 pub fn initial_state(problem: &Problem) -> Result<Vec<f64>, SolveError> {
-    let mut y = SpringSlider::steady_state(&problem.model, problem.v_init)?;
-    if let Some(theta) = &problem.initial_theta {
-        let n = problem.model.states.len();
-        if theta.len() != n {
-            return Err(SolveError::Input(format!("initial theta has {} values for {n} state variables", theta.len())));
-        }
-        for (i, &th) in theta.iter().enumerate() {
-            if !(th > 0.0 && th.is_finite()) {
-                return Err(SolveError::Input(format!(
-                    "initial theta {} = {th} must be positive and finite (s)",
-                    i + 1
-                )));
-            }
-            y[1 + i] = th.ln();
-        }
+    let Some(theta) = &problem.initial_theta else {
+        return Ok(SpringSlider::steady_state(&problem.model, problem.v_init)?);
+    };
+    let n = problem.model.states.len();
+    if theta.len() != n {
+        return Err(SolveError::Input(format!("initial theta has {} values for {n} state variables", theta.len())));
     }
+    let v = problem.v_init;
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(SolveError::Input(format!("initial slip rate {v} must be positive and finite (µm/s)")));
+    }
+    let mut y = Vec::with_capacity(n + 2);
+    y.push(v.ln());
+    for (i, &th) in theta.iter().enumerate() {
+        if !(th > 0.0 && th.is_finite()) {
+            return Err(SolveError::Input(format!("initial theta {} = {th} must be positive and finite (s)", i + 1)));
+        }
+        y.push(th.ln());
+    }
+    y.push(0.0);
     Ok(y)
 }
 

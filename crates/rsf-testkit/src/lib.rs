@@ -8,7 +8,7 @@
 //! | `finite` | dθ/dt, its log form and its partial derivatives are finite over the documented ranges |
 //! | `log_form` | [`StateLaw::ln_theta_rate`] equals dθ/dt / θ |
 //! | `jacobian` | [`StateLaw::jet`] equals the dual-number derivatives of `theta_rate` and central differences |
-//! | `steady_state` | [`StateLaw::steady_state_theta`] is an attracting root of dθ/dt = 0 (and θ = s·Dc/V where claimed) |
+//! | `steady_state` | [`StateLaw::steady_state_theta`] is an attracting root of dθ/dt = 0 (and θ = s·Dc/V where claimed); for a law that claims none, it refuses and dθ/dt < 0 |
 //! | `time_scaling` | dθ/dt is unchanged when time is rescaled: V → V/c, θ → cθ, rates → /c, the law's velocities → /c |
 //! | `unit_scaling` | dθ/dt is unchanged when lengths are rescaled (µm ↔ m): V, Dc and the law's lengths and velocities × s |
 //! | `vi_t_identity` | holds and steps of an N-state model (the law mixed with Aging and Slip, N = 1–3) from V_i and V_i·10^u trace the same Δμ against V_i·t (Bhattacharya et al. 2022, Eqs. 9–11); for laws without a velocity scale |
@@ -96,6 +96,10 @@ pub struct Claims {
     /// The steady state is θ = s·Dc/V, s = [`StateLaw::theta_scale`] (Aging, Slip, PRZ,
     /// Nagata; not Kato–Tullis).
     pub steady_state_dc_over_v: bool,
+    /// The law has no steady state (the Aging law without healing): `steady_state` then checks
+    /// that [`StateLaw::steady_state_theta`] refuses and that θ only decays, and the solver
+    /// properties start every state at θ = Dc/V_i instead of steady state.
+    pub no_steady_state: bool,
     /// The law's own parameters that are velocities, µm/s (Kato–Tullis's `vc`), set through
     /// [`StateLaw::set_parameter`] when time or length is rescaled. A law with one has a
     /// velocity scale of its own: the V_i·t identity is not expected of it.
@@ -123,12 +127,18 @@ impl Claims {
     pub fn new() -> Self {
         Claims {
             steady_state_dc_over_v: false,
+            no_steady_state: false,
             velocity_parameters: vec![],
             length_parameters: vec![],
             ranges: Ranges::default(),
             cases: DEFAULT_CASES,
             derivatives_by_differences: false,
         }
+    }
+    /// Says the law has no steady state (θ decays at every V > 0).
+    pub fn no_steady_state(mut self) -> Self {
+        self.no_steady_state = true;
+        self
     }
     /// Says the law's derivatives are central differences of its rate (a Python function).
     pub fn derivatives_by_differences(mut self) -> Self {

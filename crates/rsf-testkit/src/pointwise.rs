@@ -230,6 +230,17 @@ fn jacobian<L: StateLaw>(law: &L, claims: &Claims, pt: &Point) -> Result<(), Str
 
 fn steady_state<L: StateLaw>(law: &L, claims: &Claims, pt: &Point) -> Result<(), String> {
     let (v, dc) = (pt.v, pt.dc);
+    if claims.no_steady_state {
+        if let Ok(theta) = law.steady_state_theta(v, dc) {
+            return Err(format!("the law claims no steady state but steady_state_theta gives {theta:e} s"));
+        }
+        let theta = pt.omega * dc / v;
+        let g = law.theta_rate(&StateArgs::new(v, theta, dc, pt.b));
+        if !(g < 0.0) {
+            return Err(format!("dθ/dt = {g:e} ≥ 0 at θ = {theta:e} s: a law without a steady state must decay"));
+        }
+        return Ok(());
+    }
     let theta = law.steady_state_theta(v, dc).map_err(|e| format!("steady_state_theta failed: {e}"))?;
     if !(theta > 0.0 && theta.is_finite()) {
         return Err(format!("steady_state_theta = {theta:e}"));

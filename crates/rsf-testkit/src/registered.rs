@@ -5,7 +5,7 @@
 
 use crate::{Claims, Failure, Report, check};
 use rsf_laws::registry::{LawEntry, Origin};
-use rsf_laws::{Aging, AgingSlip, KatoTullis, Law, Nagata, Prz, Slip};
+use rsf_laws::{Aging, AgingNoHealing, AgingSlip, KatoTullis, Law, Nagata, Prz, Slip};
 
 /// The unit a law file gives a velocity parameter (the kit rescales it with time and length).
 pub const VELOCITY_UNIT: &str = "µm/s";
@@ -37,6 +37,7 @@ pub fn check_entry(entry: &LawEntry, claims: Claims) -> Result<Result<Report, Fa
             Law::Prz => check(&Prz, &claims),
             Law::Nagata => check(&Nagata { c: 1.0 }, &claims),
             Law::AgingSlip => check(&AgingSlip { w: 0.5 }, &claims),
+            Law::AgingNoHealing => check(&AgingNoHealing, &claims.no_steady_state()),
             Law::KatoTullis => check(&KatoTullis { vc: 0.01 }, &claims.velocity_parameter("vc")),
         }),
         Origin::TextFile(_) => {

@@ -26,6 +26,13 @@ const STABLE_MARGIN: f64 = 10.0;
 const MAX_WEAKENING: f64 = 0.8;
 /// The record and step protocols step down by at most this factor (a hold becomes this step).
 const MIN_RATIO: f64 = 0.03;
+/// Stiffness over Σ b_i/Dc_i (the weakening per unit slip of states that only decay) for a
+/// model with a law without healing.
+const NO_HEALING_MARGIN: f64 = 2.0;
+/// The longest protocol, in units of Dc/V_i, for a model with a law without healing: θ falls
+/// by e per Dc of slip without end, and after tens of Dc it is e^(−tens) — a state no
+/// physical surface reaches (a slip of 20 Dc takes θ to 2e-9 of its start).
+const NO_HEALING_SPAN: f64 = 20.0;
 /// Solver-level inputs: an eighth of the pointwise count, at least this many.
 const MIN_SOLVER_CASES: u32 = 8;
 
@@ -101,6 +108,12 @@ impl Setup {
             m.states.iter_mut().for_each(|s| s.b *= f);
         }
         m.stiffness = m.stiffness.max(STABLE_MARGIN * m.critical_stiffness_estimate());
+        if without_steady_state(&m, self.v_i) {
+            // θ of a law without healing only decays, weakening by b_i per Dc_i of slip at any
+            // V: the spring must unload faster than that for sliding to stay stable
+            let weakening: f64 = m.states.iter().map(|s| s.b / s.dc).sum();
+            m.stiffness = m.stiffness.max(NO_HEALING_MARGIN * weakening);
+        }
         m
     }
 
@@ -108,6 +121,12 @@ impl Setup {
     /// [`MIN_RATIO`] down (a hold or a larger step would make reloading a slip event).
     fn second_velocity(&self) -> f64 {
         self.ratio.max(MIN_RATIO) * self.v_i
+    }
+
+    /// The duration in units of Dc/V_i, at most [`NO_HEALING_SPAN`] for a model with a law
+    /// without healing.
+    fn span<L: StateLaw>(&self, law: &L) -> f64 {
+        if without_steady_state(&self.model(law), self.v_i) { self.t_end.min(NO_HEALING_SPAN) } else { self.t_end }
     }
 }
 
@@ -133,21 +152,39 @@ pub(crate) fn run<L: StateLaw>(p: Property, law: &L, claims: &Claims) -> Result<
     }
 }
 
-/// Δμ against T = V_i t / Dc₁ at `ts` for a hold or step from steady sliding at `v_i`.
+/// Whether a state of `m` has no steady state at `v` (the Aging law without healing).
+fn without_steady_state(m: &Model, v: f64) -> bool {
+    m.states.iter().any(|s| s.law.steady_state_theta(v, s.dc).is_err())
+}
+
+/// A problem starting at `v_i`: in steady state, or, for a model with a state without one (the
+/// Aging law without healing), with every state at θ = Dc/V_i (the V_i·t identity holds from
+/// any start that scales so).
+fn problem(m: &Model, loading: Loading, v_i: f64, dt: f64) -> Problem {
+    let mut p = Problem::new(m.clone(), loading, v_i, dt);
+    if without_steady_state(m, v_i) {
+        p.initial_theta = Some(m.states.iter().map(|s| s.dc / v_i).collect());
+    }
+    p
+}
+
+/// Δμ against T = V_i t / Dc₁ at `ts` (`ts[0]` = 0) for a hold or step from sliding at `v_i`.
 fn delta_mu(m: &Model, v_i: f64, ratio: f64, ts: &[f64]) -> Result<Vec<f64>, String> {
     let dc1 = m.states[0].dc;
     let times: Vec<f64> = ts.iter().map(|t| t * dc1 / v_i).collect();
     let t_end = *times.last().unwrap_or(&1.0);
-    let mut p = Problem::new(m.clone(), Loading::Segments(vec![Segment::for_duration(ratio * v_i, t_end)]), v_i, 1.0);
+    let mut p = problem(m, Loading::Segments(vec![Segment::for_duration(ratio * v_i, t_end)]), v_i, 1.0);
     p.output = OutputTimes::Times(times);
     let sol = solve(&p, &Rodas4::new(1e-11, 1e-14)).map_err(|e| format!("solve from V_i = {v_i:e}: {e}"))?;
-    let mu_i = m.steady_state_friction(v_i).map_err(|e| e.to_string())?;
+    let mu_i = sol.mu.first().copied().ok_or("no output")?;
     Ok(sol.mu.iter().map(|x| x - mu_i).collect())
 }
 
 fn vi_t_identity<L: StateLaw>(law: &L, s: &Setup) -> Result<(), String> {
-    let m = s.model(law);
-    let ts: Vec<f64> = (0..=40).map(|i| s.t_end * (i as f64 / 40.0).powi(3)).collect();
+    // a law without healing weakens without end in a soft machine: the stable model for it
+    let m = if without_steady_state(&s.model(law), s.v_i) { s.stable_model(law) } else { s.model(law) };
+    let t_end = s.span(law);
+    let ts: Vec<f64> = (0..=40).map(|i| t_end * (i as f64 / 40.0).powi(3)).collect();
     let d1 = delta_mu(&m, s.v_i, s.ratio, &ts)?;
     let d2 = delta_mu(&m, s.v_i * 10f64.powf(s.decades), s.ratio, &ts)?;
     for ((t, x), y) in ts.iter().zip(&d1).zip(&d2) {
@@ -159,8 +196,8 @@ fn vi_t_identity<L: StateLaw>(law: &L, s: &Setup) -> Result<(), String> {
 }
 
 /// A load-point record: V_i, then V_i·ratio (or a hold), then V_i again, 301 samples.
-fn record(s: &Setup, t0: f64) -> LoadRecord {
-    let span = s.t_end * s.dc / s.v_i;
+fn record(s: &Setup, span_dc: f64, t0: f64) -> LoadRecord {
+    let span = span_dc * s.dc / s.v_i;
     let v2 = s.second_velocity();
     let (mut time, mut load_point) = (vec![], vec![]);
     let mut x = 0.0;
@@ -185,8 +222,8 @@ fn record(s: &Setup, t0: f64) -> LoadRecord {
 fn time_shift<L: StateLaw>(law: &L, s: &Setup) -> Result<(), String> {
     let m = s.stable_model(law);
     let run = |t0: f64| {
-        let r = record(s, t0);
-        let mut p = Problem::new(m.clone(), Loading::Record(r.clone()), s.v_i, 1.0);
+        let r = record(s, s.span(law), t0);
+        let mut p = problem(&m, Loading::Record(r.clone()), s.v_i, 1.0);
         p.output = OutputTimes::Times(r.time);
         solve(&p, &Rodas4::new(1e-10, 1e-13)).map_err(|e| format!("solve with the clock at {t0:e} s: {e}"))
     };
@@ -204,13 +241,13 @@ fn time_shift<L: StateLaw>(law: &L, s: &Setup) -> Result<(), String> {
 
 fn integrators_agree<L: StateLaw>(law: &L, s: &Setup) -> Result<(), String> {
     let m = s.stable_model(law);
-    let d = s.t_end * s.dc / s.v_i;
+    let d = s.span(law) * s.dc / s.v_i;
     let segs = vec![
         Segment::for_duration(s.v_i, d),
         Segment::for_duration(s.second_velocity(), d),
         Segment::for_duration(s.v_i, d),
     ];
-    let p = Problem::new(m, Loading::Segments(segs), s.v_i, d / 50.0);
+    let p = problem(&m, Loading::Segments(segs), s.v_i, d / 50.0);
     let e = solve(&p, &Dopri5::new(1e-10, 1e-13)).map_err(|e| format!("Dopri5: {e}"))?;
     let i = solve(&p, &Rodas4::new(1e-10, 1e-13)).map_err(|e| format!("Rodas4: {e}"))?;
     for (r, ((t, x), y)) in e.time.iter().zip(&e.mu).zip(&i.mu).enumerate() {

@@ -2,7 +2,7 @@
 //! is wrong, with a shrunk input.
 
 use rsf_core::{Jet, LnArgs, Real, StateArgs, StateLaw};
-use rsf_laws::{Aging, AgingSlip, KatoTullis, Nagata, Prz, Slip};
+use rsf_laws::{Aging, AgingNoHealing, AgingSlip, KatoTullis, Nagata, Prz, Slip};
 use rsf_testkit::{Claims, Outcome, Property, check};
 
 fn passes<L: StateLaw>(law: L, claims: Claims) {
@@ -24,6 +24,19 @@ fn slip_conforms() {
 #[test]
 fn prz_conforms() {
     passes(Prz, Claims::new().steady_state_dc_over_v());
+}
+
+/// The Aging law without healing passes with its claim of no steady state (its solver
+/// properties start from θ = Dc/V_i), and fails `steady_state` without it.
+#[test]
+fn aging_without_healing_conforms_and_claims_no_steady_state() {
+    passes(AgingNoHealing, Claims::new().no_steady_state());
+    let f = check(&AgingNoHealing, &Claims::new().cases(32)).unwrap_err();
+    assert_eq!(f.property, Property::SteadyState, "{f}");
+    // and Aging, which has one, fails the claim of none
+    let f = check(&Aging, &Claims::new().no_steady_state().cases(32)).unwrap_err();
+    assert_eq!(f.property, Property::SteadyState, "{f}");
+    assert!(f.reason.contains("claims no steady state"), "{f}");
 }
 
 #[test]

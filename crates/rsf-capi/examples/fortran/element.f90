@@ -12,6 +12,8 @@ program element
   real(c_double) :: dpsi, v, theta, want, err_f, err_dv, err_dth, err_rate, bf(3), bx(3), bz(3), br(3)
   type(RsfFrictionParams) :: cp
   type(RsfStateParams) :: cs
+  type(c_ptr) :: mesh
+  real(c_double) :: mv(3), mth(3), mdv(3), mdth(3), mrate(3)
   integer(c_int) :: st, its, i, j
   real(c_double), parameter :: vp = 1d-9, sigma = 50d6, eta = 2670d0 * 3464d0 / 2d0
   fp = RsfFrictionParams(RSF_ABI_VERSION, RSF_FORM_REGULARIZED, 0.6d0, 0.010d0, 1d-6)
@@ -95,4 +97,27 @@ program element
   sps(3)%law = RSF_LAW_KATO_TULLIS
   st = rsf_batch_partials(3_c_size_t, fps, sps, lv, th, bf, bx, bz, br)
   print '(a,i0,a,a)', 'cutoff with kato-tullis -> ', st, ': ', rsf_error_message()
+  ! a mesh of three classic elements, the third without healing (QDYN's itheta_law = 0):
+  ! parameters checked once, then partials and rates in V and theta, as QDYN calls them
+  sps(1) = RsfStateParams(RSF_ABI_VERSION, RSF_LAW_AGING, 0.015d0, 0.008d0, 0d0)
+  sps(2) = sps(1)
+  sps(3) = RsfStateParams(RSF_ABI_VERSION, RSF_LAW_AGING_NO_HEALING, 0.015d0, 0.008d0, 0d0)
+  fps = fps(2)
+  st = rsf_mesh_new(3_c_size_t, fps, sps, RSF_DOMAIN_CONTINUE, mesh)
+  if (st /= RSF_OK) stop 5
+  mv = [1d-9, -2d-10, 1d-3]
+  mth = [8d6, 4d7, 3d0]
+  st = rsf_mesh_partials(mesh, 3_c_size_t, mv, mth, mdv, mdth)
+  if (st /= RSF_OK) stop 6
+  st = rsf_mesh_state_rate(mesh, 3_c_size_t, mv, mth, mrate)
+  if (st /= RSF_OK) stop 7
+  err_f = 0
+  do i = 1, 3
+    err_f = max(err_f, abs(mdv(i) - 0.010d0 / mv(i)) / abs(mdv(i)), abs(mdth(i) - 0.015d0 / mth(i)) / abs(mdth(i)))
+  end do
+  err_rate = max(abs(mrate(1) - (1d0 - mv(1) * mth(1) / 0.008d0)), abs(mrate(2) - (1d0 - mv(2) * mth(2) / 0.008d0)), &
+    abs(mrate(3) + mv(3) * mth(3) / 0.008d0))
+  print '(a,es12.4)', 'mesh partials error ', err_f
+  print '(a,es12.4)', 'mesh rate error ', err_rate
+  call rsf_mesh_free(mesh)
 end program
