@@ -2,9 +2,11 @@
 case's own settings (its test/CASE.py, unchanged) but SOLVER, so that a case written for
 Bulirsch-Stoer (SOLVER = 1) also runs under Runge-Kutta-Fehlberg (SOLVER = 2), and the reverse.
 
-Usage: python solvers.py BUILD_DIR CASE SOLVER OUT.json            (run one build)
+Usage: python solvers.py BUILD_DIR CASE SOLVER OUT.json [THETA_LAW]   (run one build)
        python solvers.py --compare OWN.json RSF.json               (rsf's against QDYN's own)
 
+THETA_LAW, when given, replaces the case's state law too (0: aging without healing, 1: aging,
+2: slip), so that a law no case of the suite uses is run by both builds.
 BUILD_DIR is a QDYN copy (run.sh's WORK/own or WORK/rsf); CASE one of tserice, vstep,
 stickslip, singleasperity (its RSF mode). OUT.json gets the case's (t, var1, var2) as QDYN's
 test records them, the wall time, the run's end time and whether it reached TMAX. --compare
@@ -23,7 +25,7 @@ CLASSES = {"tserice": "TestTseRice", "vstep": "TestVstep", "stickslip": "TestSti
 RTOL = 1e-4  # QDYN's own criterion (test/aux.py)
 
 
-def run(build, case, solver, out):
+def run(build, case, solver, out, theta_law=None):
     import numpy as np
 
     test_dir = os.path.join(os.path.abspath(build), "test")
@@ -36,8 +38,10 @@ def run(build, case, solver, out):
     p = qdyn()
     settings = p.settings
 
-    def with_solver(set_dict):  # the case's settings, but the solver
+    def with_solver(set_dict):  # the case's settings, but the solver (and the state law)
         set_dict["SOLVER"] = solver
+        if theta_law is not None:
+            set_dict["SET_DICT_RSF"]["THETA_LAW"] = theta_law
         return settings(set_dict)
 
     p.settings = with_solver
@@ -54,7 +58,7 @@ def run(build, case, solver, out):
         failed = f"{type(e).__name__}: {e}"
     wall = time.perf_counter() - t0
     r = t.test_results.get("RSF")
-    rec = {"case": case, "solver": solver, "wall_s": wall, "failed": failed}
+    rec = {"case": case, "solver": solver, "theta_law": theta_law, "wall_s": wall, "failed": failed}
     if r is not None:
         rec.update({k: np.asarray(r[k], float).tolist() for k in ("t", "var1", "var2")})
         rec["t_end"] = float(np.asarray(r["t"], float)[-1])
@@ -89,14 +93,16 @@ def compare(own_path, rsf_path):
             devs.append(float(np.max(np.abs(got - ref) / np.maximum(np.abs(ref), 1e-300))))
         dev = f"{devs[0]:.1e}, {devs[1]:.1e}"
         ok = max(devs) <= RTOL
-    print(f"| {own['case']} | {own['solver']} | {end(own)} | {end(rsf)} | {dev} | {'same within rtol 1e-4' if ok else 'DIFFERENT'} |")
+    law = "" if own.get("theta_law") is None else f" (THETA_LAW {own['theta_law']})"
+    print(f"| {own['case']}{law} | {own['solver']} | {end(own)} | {end(rsf)} | {dev} | {'same within rtol 1e-4' if ok else 'DIFFERENT'} |")
     sys.exit(0 if ok else 1)
 
 
 if __name__ == "__main__":
     if len(sys.argv) == 4 and sys.argv[1] == "--compare":
         compare(sys.argv[2], sys.argv[3])
-    elif len(sys.argv) == 5:
-        run(sys.argv[1], sys.argv[2], int(sys.argv[3]), os.path.abspath(sys.argv[4]))
+    elif len(sys.argv) in (5, 6):
+        run(sys.argv[1], sys.argv[2], int(sys.argv[3]), os.path.abspath(sys.argv[4]),
+            int(sys.argv[5]) if len(sys.argv) == 6 else None)
     else:
         sys.exit(__doc__)

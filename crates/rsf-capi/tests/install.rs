@@ -96,6 +96,19 @@ fn installed_library_builds_c_and_fortran_hosts() {
         assert!(out.contains("mesh: ok"), "{out}");
         let ldd = run(Command::new("ldd").arg(&exe));
         assert!(ldd.contains(&prefix.join("lib/librsf_capi.so").display().to_string()), "{ldd}");
+        // the other C hosts too: the BP1-like spring-slider and the refusals
+        for (src, line) in [("c/spring_slider.c", "onset 5.9824 yr"), ("c/refusals.c", "accepted 0")] {
+            let exe = dir.join(src.replace(['/', '.'], "_"));
+            run(Command::new("gcc")
+                .arg(example(src))
+                .args(pkg_config(&prefix, &["--cflags", "--libs"]))
+                .arg(format!("-Wl,-rpath,{libdir}"))
+                .arg("-lm")
+                .arg("-o")
+                .arg(&exe));
+            let out = run(&mut Command::new(&exe));
+            assert!(out.contains(line), "{src}: no `{line}` in\n{out}");
+        }
     } else {
         println!("SKIP: gcc not installed; the C host was not built against the installed library");
     }

@@ -247,6 +247,8 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::batch_check_options, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_row, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_summary, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_table, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_crashed_row, m)?)?;
     m.add_function(wrap_pyfunction!(laws::register_law_file, m)?)?;
     m.add_function(wrap_pyfunction!(laws::law_names, m)?)?;
     m.add_function(wrap_pyfunction!(laws::register_py_law, m)?)?;

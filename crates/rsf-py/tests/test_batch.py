@@ -4,6 +4,7 @@ worker processes and without a cluster; a failing record is a row, not an except
 import os
 import shutil
 import subprocess
+import types
 
 import pandas as pd
 import pytest
@@ -41,7 +42,25 @@ def batch_summary(lab, *flags):
                        capture_output=True, text=True)
     assert r.returncode == 1, r.stderr          # one record fails: reported, exit status 1
     assert "bad.csv: read_failed" in r.stdout
-    return pd.read_csv(out / "summary.csv")
+    return typed_csv(out / "summary.csv")
+
+
+TEXT = {"file", "status", "error", "laws", "cause", "effect", "runner_up", "partial", "adequacy"}
+
+
+def typed_csv(path):
+    """summary.csv read without pandas' type guessing, each column typed as rsf batch types it:
+    text as written, ``samples`` a count, every other column a number."""
+    raw = pd.read_csv(path, dtype=str, keep_default_na=False)
+    out = {}
+    for c in raw.columns:
+        if c in TEXT or c.startswith("meta_"):
+            out[c] = raw[c].astype(object)
+        elif c == "samples":
+            out[c] = pd.to_numeric(raw[c].replace("", None)).astype("Int64")
+        else:
+            out[c] = pd.to_numeric(raw[c].replace("", None)).astype("float64")
+    return pd.DataFrame(out)
 
 
 @pytest.fixture(scope="module")
@@ -114,3 +133,41 @@ def test_a_non_finite_option_is_said_in_the_users_terms(tmp_path):
     # issue 40 (defect 12): on the main, "expected value at line 1 column 34"
     with pytest.raises(ValueError, match=r"stiffness = nan must be a finite number"):
         rsf.fit_many([tmp_path / "x.csv"], stiffness=float("nan"))
+
+
+def test_meta_cells_stay_text_and_formulas_stay_raw(tmp_path):
+    """Issue 40: the table is built from the typed rows, not by pandas guessing types from
+    CSV text: a meta `NA` stays "NA" (read_csv made it NaN), `007` stays "007" (it made it 7),
+    and `=1+1` is the manifest's text (summary.csv quotes it as `'=1+1` for spreadsheets)."""
+    shutil.copy(BASALT, tmp_path / "basalt.txt")
+    (tmp_path / "manifest.csv").write_text(
+        "file,stiffness,time_col,lp_col,mu_col,meta_a,meta_id,meta_f\n"
+        "basalt.txt,0.0151,Time(s),Displ(microns),Friction,NA,007,=1+1\n")
+    got = rsf.fit_many(tmp_path / "manifest.csv")
+    assert got.loc[0, "meta_a"] == "NA" and got.loc[0, "meta_id"] == "007" and got.loc[0, "meta_f"] == "=1+1"
+    assert got["samples"].dtype == "Int64" and got["a"].dtype == "float64"
+
+
+def test_a_task_that_fails_is_a_crashed_row_and_the_others_are_kept(lab, monkeypatch):
+    """Issue 40: on Dask, a record whose task fails (a worker it keeps killing ends in
+    KilledWorker) was an exception that lost every finished row; it is now a `crashed` row."""
+    distributed = pytest.importorskip("distributed")
+    import rsf.batch as b
+    real = b._row
+
+    def dies_on_ns(entry_json, *a, **k):
+        if NS[0] in entry_json:
+            worker = types.SimpleNamespace(address="tcp://127.0.0.1:1")  # what KilledWorker names
+            raise distributed.KilledWorker("rsf-test", worker, 3)
+        return real(entry_json, *a, **k)
+
+    monkeypatch.setattr(b, "_row", dies_on_ns)
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None)
+    c = distributed.Client(cluster)
+    try:
+        got = rsf.fit_many(lab / "manifest.csv", client=c)
+    finally:
+        c.close()
+        cluster.close()
+    assert list(got["status"]) == ["ok", "crashed", "ok", "read_failed"]
+    assert "KilledWorker" in got.loc[1, "error"] and got.loc[1, "meta_sample"] == "S2"

@@ -8,7 +8,6 @@ The work of each record and the summary table are the same Rust code as ``rsf ba
 
 from __future__ import annotations
 
-import io
 import json
 import math
 import os
@@ -69,9 +68,27 @@ def _many(manifest_or_paths, stiffness, client, fit: bool, diagnose: bool, progr
         if progress:
             from distributed import progress as show
             show(futures)
-        rows = client.gather(futures)
+        rows = [_result(f, e) for f, e in zip(futures, entries)]
+    return _table(rows)
+
+
+def _result(future, entry_json: str) -> str:
+    """A task's row; a task that raised, or whose record killed its workers (Dask's
+    ``KilledWorker``), becomes a ``crashed`` row saying so, and the other rows are kept."""
+    try:
+        return future.result()
+    except Exception as e:  # noqa: BLE001 — any failure of one record is that record's row
+        return _rsf.batch_crashed_row(entry_json, f"the task failed: {type(e).__name__}: {e}")
+
+
+def _table(rows: Sequence[str]):
+    """The summary as a DataFrame built from the typed rows, as ``rsf batch`` types them: text
+    columns as text exactly as the manifest and the work gave them (a meta ``NA`` or ``007``
+    stays text; no spreadsheet quoting), numbers as float (NaN for none), counts as ``Int64``."""
     import pandas as pd
-    return pd.read_csv(io.StringIO(_rsf.batch_summary(rows)))
+    header, kinds, columns = _rsf.batch_table(list(rows))
+    dtype = {"text": object, "number": "float64", "count": "Int64"}
+    return pd.DataFrame({h: pd.Series(c, dtype=dtype[k]) for h, k, c in zip(header, kinds, columns)})
 
 
 def fit_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffness: Optional[float] = None,
