@@ -243,7 +243,9 @@ fn p446_alpha_is_resolved_from_the_recorded_normal_stress() {
     let ci = with.ci95["alpha1"];
     println!("p446: α {alpha:.3} [{:.3}, {:.3}], ΔBIC {:.0}", ci[0], ci[1], with.bic - base.bic);
     assert!(alpha > 0.25 && alpha < 0.45, "α {alpha}");
-    assert!(ci[1] - ci[0] < 0.5 * alpha, "α not resolved: {ci:?}");
+    // resolved: under the residuals' noise model (the default) the interval stays well above 0
+    // (it is ±17 %: the hold's correlated misfit widens the white form's ±3 % fivefold)
+    assert!(ci[0] > 0.5 * alpha && ci[1] - ci[0] < alpha, "α not resolved: {ci:?}");
     assert!(with.bic < base.bic - 1000.0, "ΔBIC {}", with.bic - base.bic);
 }
 

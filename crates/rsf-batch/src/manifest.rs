@@ -251,7 +251,9 @@ fn read_manifest_with(path: &Path, allow_outside: bool) -> Result<Vec<Entry>, St
     }
     let mut entries: Vec<Entry> = vec![];
     let mut identities: Vec<String> = vec![];
-    let folder = dir.canonicalize().ok();
+    // (a manifest named without a folder, `manifest.csv`, has the empty path as its parent:
+    // the folder is then the working one, whose canonical form the check needs)
+    let folder = if dir.as_os_str().is_empty() { Path::new(".") } else { dir }.canonicalize().ok();
     for row in rdr.records() {
         let row = row.map_err(|e| format!("{}: {e}", path.display()))?;
         let line = row.position().map_or(0, |p| p.line() as usize);

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use rsf_fit::data::{DispUnit, DuplicateTimes, TimeUnit};
-use rsf_fit::fit::{AlphaFit, LoadingMode, NormalStressMode, Weighting};
+use rsf_fit::fit::{AlphaFit, LoadingMode, NormalStressMode, Uncertainty, Weighting};
 use std::path::PathBuf;
 
 /// clap's parser for a closed vocabulary: the type's own `FromStr`, shared with Python and the
@@ -435,6 +435,10 @@ pub(crate) struct FitArgs {
     /// Forward-model loading: record (measured load-point history) or protocol (detected segments).
     #[arg(long, default_value = "record", value_parser = word::<LoadingMode>)]
     pub(crate) loading: LoadingMode,
+    /// Standard errors and intervals: noise-model (under the white, AR(1) and drift noise fitted
+    /// to the residuals) or white (independent residuals).
+    #[arg(long, default_value = "noise-model", value_parser = word::<Uncertainty>)]
+    pub(crate) uncertainty: Uncertainty,
     /// Integrator relative tolerance.
     #[arg(long, default_value_t = 1e-7)]
     pub(crate) rtol: f64,

@@ -4,7 +4,8 @@
 //!
 //! Layout of `--out DIR`:
 //! - `DIR/summary.csv`, `DIR/summary.parquet`, `DIR/summary.svg`: one row per record (the
-//!   Parquet file with typed columns); parameters across conditions.
+//!   Parquet file with typed columns); parameters across conditions. `DIR/summary.set.json`
+//!   lists the three with their SHA-256: they are one run's (`summary_set.rs`).
 //! - `DIR/records/KEY.fit.json`, `KEY.diagnosis.json`, `KEY.html`: each record's results
 //!   (KEY: the manifest's name, `/` → `__`).
 //! - `DIR/records/KEY.row.json` and `KEY.stamp`: the record's summary row, and what it was
@@ -195,6 +196,7 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     let dir = a.out.join("records");
     let (summary, figure) = (a.out.join("summary.csv"), a.out.join("summary.svg"));
     let parquet = a.out.join("summary.parquet");
+    let set = a.out.join(crate::summary_set::SET);
     // no output may be an input: a record listed under the output folder's names is refused
     let mut files = crate::output::Files::default();
     if !a.input.is_dir() {
@@ -203,7 +205,11 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     for e in &entries {
         files = files.input("record", &e.path);
     }
-    files = files.output("summary", Some(&summary)).output("summary", Some(&parquet)).output("figure", Some(&figure));
+    files = files
+        .output("summary", Some(&summary))
+        .output("summary", Some(&parquet))
+        .output("figure", Some(&figure))
+        .output("summary set", Some(&set));
     // and each record's own outputs (a manifest may list one of an earlier run's)
     for e in &entries {
         let p = Paths::new(&dir, &e.name);
@@ -217,6 +223,8 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     // what a killed run left half-written
     crate::batch_lock::sweep_partials(&a.out);
     crate::batch_lock::sweep_partials(&dir);
+    // and a summary set it left half renamed
+    crate::summary_set::clear_broken(&a.out)?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = if a.jobs == 0 { cores } else { a.jobs }.min(entries.len()).max(1);
     // the cores left over go to each record's own fits (the result does not depend on it)
@@ -249,9 +257,10 @@ pub fn run(a: &BatchArgs) -> Result<()> {
     });
     bar.finish_and_clear();
     let rows: Vec<Row> = results.iter().map(|r| r.0.clone()).collect();
-    crate::output::write_bytes(&summary, summary_csv(&rows))?;
-    crate::output::write_bytes(&parquet, crate::summary_parquet::summary_parquet(&summary_table(&rows))?)?;
-    crate::output::write_bytes(&figure, crate::plot::batch(&rows)?)?;
+    // one unit: the three written completely, then renamed, then the set file naming them
+    let parquet_bytes = crate::summary_parquet::summary_parquet(&summary_table(&rows))?;
+    let svg = crate::plot::batch(&rows)?;
+    crate::summary_set::write(&a.out, summary_csv(&rows).as_bytes(), &parquet_bytes, svg.as_bytes(), rows.len())?;
     let reused = results.iter().filter(|r| r.1).count();
     let failed: Vec<&Row> = rows.iter().filter(|r| r.status != Status::Ok).collect();
     let mut text = format!(

@@ -1,5 +1,6 @@
 //! One `rsf batch` at a time on an output folder: the lock file `DIR/.rsf-batch.lock`,
-//! created exclusively, holds the holder's process id, host and start; it is removed when the
+//! created exclusively and complete (a written file linked to its name), holds the holder's
+//! process id, host and start; it is removed when the
 //! run ends. A second run on the same folder says who holds it and stops before any work.
 //! A lock whose process is gone (same host, no such process) is taken over, with a note: a
 //! run that was killed cannot remove its lock.
@@ -45,12 +46,19 @@ pub(crate) fn lock(out: &Path) -> Result<Lock> {
     let path = out.join(".rsf-batch.lock");
     let since = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let me = format!("pid {} on {} since {since} (unix seconds)\n", std::process::id(), host());
+    // the lock appears with its holder written: a complete file, linked to the lock's name
+    // (a link fails when the name exists), so that a second run never reads an empty lock.
+    // (Not `.rsf-partial`: the holder's sweep must not remove a contender's file before it
+    // links.)
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".rsf-batch.lock.")
+        .suffix(".new")
+        .tempfile_in(out)
+        .with_context(|| format!("creating a temporary file in {}", out.display()))?;
+    tmp.write_all(me.as_bytes()).and_then(|()| tmp.flush()).with_context(|| format!("writing {}", path.display()))?;
     for _ in 0..2 {
-        match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
-            Ok(mut f) => {
-                f.write_all(me.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
-                return Ok(Lock { path });
-            }
+        match std::fs::hard_link(tmp.path(), &path) {
+            Ok(()) => return Ok(Lock { path }),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
                 let held = std::fs::read_to_string(&path).unwrap_or_default();
                 if stale(&held) {
@@ -65,7 +73,15 @@ pub(crate) fn lock(out: &Path) -> Result<Lock> {
                     path.display()
                 );
             }
-            Err(e) => return Err(e).with_context(|| format!("creating {}", path.display())),
+            // a filesystem without hard links: created exclusively, then written
+            Err(_) => match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+                Ok(mut f) => {
+                    f.write_all(me.as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+                    return Ok(Lock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(e).with_context(|| format!("creating {}", path.display())),
+            },
         }
     }
     bail!("{}: could not take the lock {}", out.display(), path.display())

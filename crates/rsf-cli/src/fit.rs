@@ -59,6 +59,7 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     o.window_um = a.window_um;
     o.weighting = a.weights;
     o.loading = a.loading;
+    o.uncertainty = a.uncertainty;
     o.rtol = a.rtol;
     o.starts = a.starts;
     if a.max_iter == 0 {
@@ -209,6 +210,7 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
     for (i, al) in p.alpha.iter().enumerate() {
         row(&format!("alpha{}", i + 1), *al);
     }
+    let _ = writeln!(s, "{}", uncertainty_line(r));
     if let Some(sn) = p.normal_stress {
         let _ = writeln!(s, "normal stress drives the model (σ_ref = {sn} MPa: k = K/σ_ref)");
     }
@@ -429,4 +431,40 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         crate::output::write_bytes(r, rsf_report::diagnosis_html(&d, &name))?;
     }
     Ok(())
+}
+
+/// What the standard errors assume, in one line: the noise model and how much it widens them.
+fn uncertainty_line(r: &FitResult) -> String {
+    match &r.noise {
+        None if r.bins.is_some() => "uncertainty: independent residuals of one σ (white noise): a fit on bin means \
+             has no sample residuals to fit a noise model to (--every-sample for the noise-model form)"
+            .into(),
+        None => "uncertainty: independent residuals of one σ (white noise)".into(),
+        Some(n) => {
+            let ratios: Vec<f64> = r
+                .stderr
+                .iter()
+                .filter_map(|(k, se)| Some(se / n.stderr_white.get(k)?))
+                .filter(|x| x.is_finite())
+                .collect();
+            let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = ratios.iter().copied().fold(0.0, f64::max);
+            let ar = if n.ar1_sd > 0.0 {
+                format!(", AR(1) {:.1e} (τ {:.3} s)", n.ar1_sd, n.ar1_tau_s)
+            } else {
+                String::new()
+            };
+            let drift = if n.drift_share > 0.0 {
+                format!(", drift {:.0} % of the variance (β {:.1})", 100.0 * n.drift_share, n.drift_beta)
+            } else {
+                String::new()
+            };
+            let widen = if ratios.is_empty() {
+                String::new()
+            } else {
+                format!("; stderr {lo:.2}–{hi:.2}× the white-noise form (--uncertainty white)")
+            };
+            format!("uncertainty: under the residuals' noise model: white {:.1e}{ar}{drift}{widen}", n.white_sd)
+        }
+    }
 }

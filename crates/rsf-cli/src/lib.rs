@@ -15,6 +15,7 @@ mod laws;
 mod output;
 mod plot;
 mod summary_parquet;
+mod summary_set;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command};

@@ -145,6 +145,18 @@ pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<(
         let mut w = io::BufWriter::new(&mut f);
         return fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}", path.display()));
     }
+    let tmp = temp_beside(path)?;
+    let kept = if path.exists() { format!("; {} is unchanged", path.display()) } else { String::new() };
+    let mut w = io::BufWriter::with_capacity(1 << 16, tmp);
+    fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}{kept}", path.display()))?;
+    let tmp =
+        w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("writing {}{kept}", path.display()))?;
+    commit(tmp, path, &kept)
+}
+
+/// An empty temporary file beside `path` (`.NAME.*.rsf-partial`, which a later `rsf batch`
+/// sweeps if this process is killed), with the permissions a plain create would give.
+fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -160,18 +172,47 @@ pub fn write_file(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<(
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let tmp = builder
+    builder
         .tempfile_in(dir)
-        .with_context(|| format!("creating a temporary file in {} for {}", dir.display(), path.display()))?;
-    let kept = if path.exists() { format!("; {} is unchanged", path.display()) } else { String::new() };
-    let mut w = io::BufWriter::with_capacity(1 << 16, tmp);
-    fill(&mut w).and_then(|()| w.flush()).with_context(|| format!("writing {}{kept}", path.display()))?;
-    let tmp =
-        w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("writing {}{kept}", path.display()))?;
-    tmp.persist(path).map_err(|e| e.error).with_context(|| {
-        format!("renaming the finished output to {} (in {}){kept}", name.to_string_lossy(), dir.display())
-    })?;
+        .with_context(|| format!("creating a temporary file in {} for {}", dir.display(), path.display()))
+}
+
+/// Renames the finished temporary file over `path`.
+fn commit(tmp: tempfile::NamedTempFile, path: &Path, kept: &str) -> Result<()> {
+    let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let dir = path.parent().map(|d| d.display().to_string()).unwrap_or_default();
+    tmp.persist(path)
+        .map_err(|e| e.error)
+        .with_context(|| format!("renaming the finished output to {name} (in {dir}){kept}"))?;
     Ok(())
+}
+
+/// Files written completely before any of them replaces its target ([`Staged::commit`]): a
+/// set of outputs that belong together (`rsf batch`'s summary set) is never half new because
+/// one of them failed to write.
+pub struct Staged {
+    files: Vec<(tempfile::NamedTempFile, PathBuf)>,
+}
+
+impl Staged {
+    /// Writes each `(path, bytes)` to its temporary file; nothing is replaced yet.
+    pub fn write(parts: &[(&Path, &[u8])]) -> Result<Self> {
+        let mut files = vec![];
+        for (path, bytes) in parts {
+            let mut tmp = temp_beside(path)?;
+            tmp.write_all(bytes).and_then(|()| tmp.flush()).with_context(|| format!("writing {}", path.display()))?;
+            files.push((tmp, path.to_path_buf()));
+        }
+        Ok(Self { files })
+    }
+
+    /// Renames each finished file over its target, in order.
+    pub fn commit(self) -> Result<()> {
+        for (tmp, path) in self.files {
+            commit(tmp, &path, "")?;
+        }
+        Ok(())
+    }
 }
 
 /// [`write_file`] with bytes already in memory.

@@ -108,6 +108,57 @@ fn a_killed_runs_partial_files_are_swept() {
     }
 }
 
+/// Defect 8 (the mix): the summary set is one run's. A run's three summary files are named
+/// with their SHA-256 in `summary.set.json`, written last; a folder a kill left between the
+/// renames (a new CSV beside the old Parquet and figure, no set file) is found by the next run,
+/// which removes the three with a note and writes one run's set (on the main: no set file, and
+/// the mix stayed until a run ended; the next run's note did not exist).
+#[test]
+fn the_summary_set_is_one_runs() {
+    let d = lab();
+    let out = d.path().join("out");
+    let o = batch(d.path(), &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let set: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.set.json")).unwrap()).unwrap();
+    for f in ["summary.csv", "summary.parquet", "summary.svg"] {
+        let bytes = std::fs::read(out.join(f)).unwrap();
+        assert_eq!(set["files"][f]["bytes"].as_u64(), Some(bytes.len() as u64), "{f}");
+        assert_eq!(set["files"][f]["sha256"].as_str().map(str::len), Some(64), "{f}");
+    }
+    // what a kill between the renames leaves: the set file removed, one file of a new run
+    std::fs::remove_file(out.join("summary.set.json")).unwrap();
+    std::fs::write(out.join("summary.csv"), "file,status\nother.csv,ok\n").unwrap();
+    let o = batch(d.path(), &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("are not one run's"), "{}", text(&o));
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(csv.contains("a.csv") && !csv.contains("other.csv"), "{csv}");
+    let set2: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.set.json")).unwrap()).unwrap();
+    assert_eq!(set2["files"], set["files"], "the same record and options give the same set");
+}
+
+/// Defect 14 through a manifest named without its folder (`rsf batch manifest.csv` run in the
+/// lab folder): a symlink to a file elsewhere is refused as outside the folder, and nothing of
+/// it is read. Found by the probe campaign (benches/probe): the folder of `manifest.csv` was
+/// the empty path, which has no canonical form, and the check fell back to the link's spelling;
+/// the first line of /etc/hostname reached summary.csv's error cell.
+#[cfg(unix)]
+#[test]
+fn a_symlink_out_is_refused_when_the_manifest_is_named_without_its_folder() {
+    let d = lab();
+    let elsewhere = tempfile::tempdir().unwrap();
+    std::fs::write(elsewhere.path().join("secret.csv"), "secret first line\n").unwrap();
+    std::os::unix::fs::symlink(elsewhere.path().join("secret.csv"), d.path().join("link.csv")).unwrap();
+    std::fs::write(d.path().join("manifest.csv"), "file,stiffness\na.csv,0.02\nlink.csv,0.02\n").unwrap();
+    let o = rsf().current_dir(d.path()).args(["batch", "manifest.csv", "--out", "out", "--fit"]).output().unwrap();
+    assert!(!o.status.success());
+    assert!(text(&o).contains("outside the manifest's folder"), "{}", text(&o));
+    assert!(!text(&o).contains("secret first line"));
+    assert!(!d.path().join("out/summary.csv").exists(), "refused before any work");
+}
+
 /// Defect 9: a manifest row naming one of the output folder's per-record files is refused
 /// before any work (on the main: its bytes were replaced by the run).
 #[test]

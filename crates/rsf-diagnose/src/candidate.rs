@@ -259,6 +259,7 @@ impl Ctx<'_> {
             null: None,
             at_bound,
             unresolved: self.unresolved(cause, &f),
+            converged: f.converged,
             fit: Some(f),
             heldout_fit: ho.map(|h| h.1),
             options: Some(o),

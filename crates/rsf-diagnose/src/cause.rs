@@ -32,15 +32,24 @@ pub enum Cause {
 }
 
 impl Cause {
-    /// The candidate extensions, in the order they are tried.
-    pub const CANDIDATES: [Cause; 6] = [
-        Cause::EvolutionLaw,
-        Cause::SecondStateVariable,
-        Cause::CutoffVelocity,
-        Cause::SlipTrend,
-        Cause::Stiffness,
-        Cause::NormalStressCoupling,
-    ];
+    /// Whether the cause is an extension a diagnosis tries (the others are verdicts about the
+    /// menu). Matched exhaustively: a new cause does not compile until it says which it is.
+    pub fn is_candidate(self) -> bool {
+        match self {
+            Self::EvolutionLaw
+            | Self::SecondStateVariable
+            | Self::CutoffVelocity
+            | Self::SlipTrend
+            | Self::Stiffness
+            | Self::NormalStressCoupling => true,
+            Self::None | Self::Unexplained => false,
+        }
+    }
+
+    /// The candidate extensions, in the order they are tried (the vocabulary's order).
+    pub fn candidates() -> impl Iterator<Item = Cause> {
+        Self::ALL.iter().copied().filter(|c| c.is_candidate())
+    }
 
     /// The cause named `s` (its [`name`](Self::name), as in JSON).
     pub fn parse(s: &str) -> Option<Cause> {
@@ -205,12 +214,60 @@ pub struct Effect {
     pub law_parameters: std::collections::BTreeMap<String, f64>,
 }
 
-/// One set parameter of an [`Effect`]: its key (as serialised), its value, and the fitted
-/// parameter it reports (whose standard error is its own; none for a derived share or the law).
+/// Which parameter of an [`Effect`] an entry is: one per field, so that a reader (the report's
+/// words, a study) matches on it and a new field fails to compile until every reader handles
+/// it. Serialised by [`EffectKey::text`] (the JSON key).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EffectKey {
+    /// Linker–Dieterich α.
+    Alpha,
+    /// b of the added state.
+    B2,
+    /// Share of b carried by the other law of a mixture.
+    BOtherFraction,
+    /// Nagata's c.
+    C,
+    /// Dc of the added state.
+    Dc2,
+    /// Slip trend g.
+    G,
+    /// Stiffness k.
+    K,
+    /// The law(s) of the extended model.
+    Law,
+    /// Cut-off velocity Vc.
+    Vc,
+    /// Aging share w of one state.
+    W,
+    /// An own parameter of a registered law, by its name.
+    LawParameter(&'static str),
+}
+
+impl EffectKey {
+    /// The key as serialised in the JSON (and a batch summary's `effect` cell).
+    pub fn text(&self) -> &'static str {
+        match self {
+            Self::Alpha => "alpha",
+            Self::B2 => "b2",
+            Self::BOtherFraction => "b_other_fraction",
+            Self::C => "c",
+            Self::Dc2 => "dc2",
+            Self::G => "g",
+            Self::K => "k",
+            Self::Law => "law",
+            Self::Vc => "vc",
+            Self::W => "w",
+            Self::LawParameter(name) => name,
+        }
+    }
+}
+
+/// One set parameter of an [`Effect`]: its key, its value, and the fitted parameter it reports
+/// (whose standard error is its own; none for a derived share or the law).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EffectEntry {
-    /// The key in the JSON.
-    pub key: &'static str,
+    /// Which parameter.
+    pub key: EffectKey,
     /// The value.
     pub value: EffectValue,
     /// The fitted parameter it is.
@@ -232,11 +289,11 @@ impl Effect {
         self.entries().is_empty()
     }
 
-    /// The number set under `key` (a study's configured key; code that knows the cause reads
-    /// the field).
+    /// The number set under the serialised `key` (a study's configured key; code that knows
+    /// the cause reads the field).
     pub fn number(&self, key: &str) -> Option<f64> {
         self.entries().into_iter().find_map(|e| match e.value {
-            EffectValue::Number(x) if e.key == key => Some(x),
+            EffectValue::Number(x) if e.key.text() == key => Some(x),
             EffectValue::Number(_) | EffectValue::Law(_) => None,
         })
     }
@@ -244,26 +301,26 @@ impl Effect {
     /// The set parameters, in key order (as serialised).
     pub fn entries(&self) -> Vec<EffectEntry> {
         let Effect { alpha, b2, b_other_fraction, c, dc2, g, k, law, vc, w, second_state, law_parameters } = self;
-        let num = |key: &'static str, x: &Option<f64>, parameter: Option<ParamName>| {
+        let num = |key: EffectKey, x: &Option<f64>, parameter: Option<ParamName>| {
             x.map(|x| EffectEntry { key, value: EffectValue::Number(x), parameter })
         };
         let state = second_state.unwrap_or(2);
         [
-            num("alpha", alpha, Some(ParamName::Alpha(1))),
-            num("b2", b2, Some(ParamName::B(state))),
-            num("b_other_fraction", b_other_fraction, None),
-            num("c", c, Some(ParamName::Law("c".into(), 1))),
-            num("dc2", dc2, Some(ParamName::Dc(state))),
-            num("g", g, Some(ParamName::G)),
-            num("k", k, Some(ParamName::K)),
-            law.clone().map(|l| EffectEntry { key: "law", value: EffectValue::Law(l), parameter: None }),
-            num("vc", vc, Some(ParamName::Law("vc".into(), 1))),
-            num("w", w, Some(ParamName::Law("w".into(), 1))),
+            num(EffectKey::Alpha, alpha, Some(ParamName::Alpha(1))),
+            num(EffectKey::B2, b2, Some(ParamName::B(state))),
+            num(EffectKey::BOtherFraction, b_other_fraction, None),
+            num(EffectKey::C, c, Some(ParamName::Law("c".into(), 1))),
+            num(EffectKey::Dc2, dc2, Some(ParamName::Dc(state))),
+            num(EffectKey::G, g, Some(ParamName::G)),
+            num(EffectKey::K, k, Some(ParamName::K)),
+            law.clone().map(|l| EffectEntry { key: EffectKey::Law, value: EffectValue::Law(l), parameter: None }),
+            num(EffectKey::Vc, vc, Some(ParamName::Law("vc".into(), 1))),
+            num(EffectKey::W, w, Some(ParamName::Law("w".into(), 1))),
         ]
         .into_iter()
         .flatten()
         .chain(law_parameters.iter().map(|(name, x)| EffectEntry {
-            key: rsf_laws::registry::intern(name),
+            key: EffectKey::LawParameter(rsf_laws::registry::intern(name)),
             value: EffectValue::Number(*x),
             parameter: Some(ParamName::Law(name.clone(), 1)),
         }))

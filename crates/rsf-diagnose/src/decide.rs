@@ -27,7 +27,7 @@ const HELDOUT_TOLERANCE: f64 = 1.05;
 const BLIND_LEVEL_FACTOR: f64 = 0.1;
 
 /// Why a decisive candidate is not named: it predicts the held-out part worse (it fits the
-/// training data better but overfits), its fit ran to a physical bound (the data do not
+/// training data better but overfits), its fit did not converge (its effect is not measured), its fit ran to a physical bound (the data do not
 /// constrain it: e.g. a second state turned into a linear trend), or its gain is not rare
 /// under the baseline and the record's own noise.
 pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
@@ -54,6 +54,9 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
             Some(_) => format!("{} predicted the held-out part worse", c.cause),
             None => format!("{} could not be fitted to the held-out training part", c.cause),
         })
+    } else if let Some(why) = c.fit.as_ref().and_then(|f| f.convergence_text()) {
+        // a gain measured at a point that is not an optimum, and an effect not measured
+        Some(format!("{}: {why}", c.cause))
     } else if !c.at_bound.is_empty() {
         Some(format!("{} ran to a bound ({})", c.cause, c.at_bound.join(", ")))
     } else if let Some(why) = &c.unresolved {

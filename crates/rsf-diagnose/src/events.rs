@@ -106,6 +106,8 @@ pub(super) fn fit_event(p: &Prepared, opts: &FitOptions, base: &FitResult, prev:
         fit_slip_trend: false,
         fit_stiffness: false,
         weighting: rsf_fit::fit::Weighting::Uniform,
+        // the window's interval is widened by its own n/n_eff below
+        uncertainty: rsf_fit::fit::Uncertainty::White,
         starts: 2,
         // a tenth of the baseline's work: an event the window cannot pin down is dropped
         budget: opts.budget.scaled(0.1),

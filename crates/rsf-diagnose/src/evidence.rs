@@ -2,8 +2,8 @@
 //! the reload-slope stiffness, and the information criteria of a comparison.
 
 use super::Evidence;
-use super::noise::NoiseModel;
 use rsf_fit::fit::{FitResult, Prepared};
+use rsf_noise::NoiseModel;
 
 pub(super) fn lag1(r: &[f64]) -> f64 {
     let n = r.len();

@@ -9,7 +9,7 @@
 //!    mixture (w fitted) — (`evolution_law`), a second state variable (`second_state_variable`), the Kato–Tullis
 //!    cut-off (`cutoff_velocity`), a slip trend g·δ (`slip_trend`), a free stiffness
 //!    (`stiffness`).
-//! 4. Score each by ΔBIC under a noise model fitted to the residuals' spectrum (`noise.rs`:
+//! 4. Score each by ΔBIC under a noise model fitted to the residuals' spectrum (the `rsf-noise` crate:
 //!    white, AR(1) and 1/f-like drift parts, Whittle's likelihood): each model is scored with
 //!    its own fitted noise, so an extension gains only where its residuals become less like the
 //!    record's noise, and slow drift does not pass for an effect. n_eff, the information for a
@@ -33,10 +33,6 @@
 //! |---|---|
 //! | `cause.rs` | the closed vocabulary of causes and the extension each applies |
 //! | `evidence.rs` | residual statistics, n_eff, reload-slope stiffness, ΔBIC/ΔAIC |
-//! | `noise.rs` | the residuals' noise model: spectrum fit, likelihood, synthesis |
-//! | `sampling.rs` | the noise model in time of a variably sampled record (state-space likelihood) |
-//! | `timed.rs` | the noise model at a record's sample times: which of the two forms applies |
-//! | `whittle.rs` | Whittle's likelihood of a three-part spectrum: periodogram, amplitudes, standard errors |
 //! | `starts.rs` | fits of an extension from a nested optimum (and the Vc profile) |
 //! | `heldout.rs` | the held-out test: split, training part, prediction |
 //! | `timing.rs` | samples the protocol's break-time uncertainty cannot predict, left out |
@@ -55,35 +51,31 @@ mod decide;
 pub mod events;
 mod evidence;
 mod heldout;
-mod noise;
 mod null;
 mod reconstruction;
 mod result;
 mod run;
-mod sampling;
 mod starts;
-mod timed;
 mod timing;
-mod whittle;
 
 pub use adequacy::{
     ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, Adequacy, AdequacyVerdict,
     EventMisfit, MIN_WINDOWS, PLACEBOS, WINDOW_DC, adequacy,
 };
 pub use candidate::cause_variants;
-pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectValue, effect_of};
+pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
-pub use noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
+pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
 
 pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,
 };
 pub use result::{Candidate, Diagnosis, Evidence, Gain, NoiseDrift, Secondary};
+pub use rsf_noise::whiten;
 pub use run::{diagnose, diagnosis_fit_options, without_spikes};
-pub use sampling::whiten;
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};
 
@@ -190,11 +182,20 @@ impl DiagnoseOptions {
     /// (16 replicates, 1% level, seed 1), all cores, no progress.
     /// Defaults around `fit`, whose solver tolerance and bins become the diagnosis's own
     /// ([`DIAGNOSE_RTOL`]; the search on bin means of [`SEARCH_BINS_ABOVE`] and
-    /// [`SEARCH_BIN_FRACTION`]): set `fit.rtol` or `fit.bins` afterwards to change them.
+    /// [`SEARCH_BIN_FRACTION`]), with white-noise uncertainties for its fits: set `fit.rtol` or `fit.bins`
+    /// afterwards to change them.
     pub fn new(fit: FitOptions) -> Self {
         let bins = rsf_fit::fit::BinMeans::Search { above: SEARCH_BINS_ABOVE, fraction: SEARCH_BIN_FRACTION };
         Self {
-            fit: FitOptions { rtol: DIAGNOSE_RTOL, bins, search: DIAGNOSE_SEARCH, ..fit },
+            // its many fits need no noise-model covariance: the scores use the noise model
+            // directly, and `rsf design` inflates the white form by n/n_eff
+            fit: FitOptions {
+                rtol: DIAGNOSE_RTOL,
+                bins,
+                search: DIAGNOSE_SEARCH,
+                uncertainty: rsf_fit::fit::Uncertainty::White,
+                ..fit
+            },
             heldout: true,
             per_segment: true,
             combinations: true,

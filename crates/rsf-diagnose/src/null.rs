@@ -16,12 +16,12 @@
 //! that reached the observed gain is reported beside it.
 
 use super::evidence::{Noisy, compare};
-use super::noise::NoiseModel;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rsf_fit::data::Record;
 use rsf_fit::fit::{FitResult, Prepared};
+use rsf_noise::NoiseModel;
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 

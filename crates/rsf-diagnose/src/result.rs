@@ -102,6 +102,9 @@ pub struct Candidate {
     /// fastest rate. Such a candidate is not named.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unresolved: Option<String>,
+    /// Whether its fit reached an optimum (LM's tests, not its iteration limit or a budget); one
+    /// that did not is not named.
+    pub converged: bool,
     /// The fit; in JSON its parameters, `params` (what `rsf design --from` refits from).
     #[serde(rename = "params", serialize_with = "params_of", skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitResult>,

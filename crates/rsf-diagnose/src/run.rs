@@ -267,8 +267,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ho_base,
         lp_noise,
     };
-    let causes: Vec<Cause> = Cause::CANDIDATES
-        .into_iter()
+    let causes: Vec<Cause> = Cause::candidates()
         .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
         // α acts only through changes of σ
         .filter(|&c| c != Cause::NormalStressCoupling || ctx.p.normal_stress.is_some())

@@ -214,10 +214,54 @@ pub fn minimize<E>(
 /// [`minimize`] under the tests of `c`; `f` is told how accurately to evaluate.
 pub fn minimize_with<E>(
     theta0: &[f64],
+    f: impl FnMut(&[f64], Accuracy) -> Result<Eval, E>,
+    c: &Convergence,
+) -> Result<LmResult, E> {
+    minimize_in(theta0, &[], f, c)
+}
+
+/// The components of θ that sit on a bound of `bounds` with the gradient pushing them out
+/// (g = Jᵀr > 0 at a lower bound: the step −A⁻¹g would cross it): they are held there for the
+/// step (the active set).
+fn active_set(theta: &[f64], bounds: &[(f64, f64)], g: &DVector<f64>) -> Vec<bool> {
+    if bounds.is_empty() {
+        return vec![false; theta.len()];
+    }
+    theta
+        .iter()
+        .zip(bounds)
+        .enumerate()
+        .map(|(k, (&t, &(lo, hi)))| (t <= lo && g[k] > 0.0) || (t >= hi && g[k] < 0.0))
+        .collect()
+}
+
+/// `a` and `g` with the active components taken out: their rows and columns of `a` replaced
+/// by the identity and their gradient by 0, so that a step leaves them where they are.
+fn reduced(a: &DMatrix<f64>, g: &DVector<f64>, active: &[bool]) -> (DMatrix<f64>, DVector<f64>) {
+    let m = g.len();
+    let ar = DMatrix::from_fn(m, m, |i, j| match (active[i], active[j]) {
+        (false, false) => a[(i, j)],
+        _ => f64::from(u8::from(i == j)),
+    });
+    let gr = DVector::from_fn(m, |i, _| if active[i] { 0.0 } else { g[i] });
+    (ar, gr)
+}
+
+/// [`minimize_with`] inside the box `bounds` (θ's own scale, one `(lo, hi)` per component;
+/// empty: none). A component on a bound that the gradient pushes out is held there for the step
+/// (the active set), the others take the reduced step, and a step that would cross a bound is
+/// shortened to end on it: a fit whose optimum has a parameter at its bound (α = 0 on a record
+/// that has no normal-stress coupling) moves the other parameters to their optimum instead of
+/// stalling against the wall. A point inside the box with no bound active takes exactly the steps of
+/// the unbounded search.
+pub fn minimize_in<E>(
+    theta0: &[f64],
+    bounds: &[(f64, f64)],
     mut f: impl FnMut(&[f64], Accuracy) -> Result<Eval, E>,
     c: &Convergence,
 ) -> Result<LmResult, E> {
     let m = theta0.len();
+    let bounds = if bounds.len() == m { bounds } else { &[] };
     let mut theta = theta0.to_vec();
     let mut accuracy = if c.coarse_above.is_some() { Accuracy::Coarse } else { Accuracy::Fine };
     let mut e = match f(&theta, accuracy) {
@@ -236,13 +280,17 @@ pub fn minimize_with<E>(
     let reason;
     let mut it = 0;
     loop {
+        // the step and the tests work on the free components (all of them, inside the box)
+        let active = active_set(&theta, bounds, &g);
+        let any_active = active.iter().any(|&x| x);
+        let (a_free, g_free) = if any_active { reduced(&a, &g, &active) } else { (a.clone(), g.clone()) };
         let stop = if it >= c.max_iter {
             Some(StopReason::IterationLimit)
-        } else if g.amax() <= 1e-14 * ssr.max(1e-300).sqrt() {
+        } else if g_free.amax() <= 1e-14 * ssr.max(1e-300).sqrt() {
             Some(StopReason::GradientVanished)
         } else {
             let dec = (c.lnl_tolerance.is_some() || accuracy == Accuracy::Coarse)
-                .then(|| decrement_lnl(&a, &g, ssr, e.r.len(), &c.scale));
+                .then(|| decrement_lnl(&a_free, &g_free, ssr, e.r.len(), &c.scale));
             match (accuracy, dec) {
                 (Accuracy::Coarse, Some(d)) if c.coarse_above.is_some_and(|x| d < x) => {
                     (e, a, g, ssr) = refine(&mut f, &theta, m, &mut evals)?;
@@ -268,29 +316,61 @@ pub fn minimize_with<E>(
         }
         it += 1;
         // (A + μ diag(A)) δ = −g, with a floor on the diagonal for unidentified directions
-        let mut lhs = a.clone();
+        let mut lhs = a_free.clone();
         for k in 0..m {
-            lhs[(k, k)] += mu * a[(k, k)].max(1e-12 * mu.max(1.0));
+            lhs[(k, k)] += mu * a_free[(k, k)].max(1e-12 * mu.max(1.0));
         }
         let Some(ch) = lhs.cholesky() else {
             mu *= nu;
             nu *= 2.0;
             continue;
         };
-        let delta = ch.solve(&(-&g));
+        let mut delta = ch.solve(&(-&g_free));
         let step_small = delta.norm() <= 1e-12 * (DVector::from_column_slice(&theta).norm() + 1e-12);
-        let trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
+        // a step that would cross a bound is shortened to end on the first bound it meets (its
+        // direction kept: still a descent direction); that parameter is then held there while the
+        // gradient pushes it out
+        let mut shortened = false;
+        let reach = bounds
+            .iter()
+            .zip(&theta)
+            .zip(delta.iter())
+            .map(|((&(lo, hi), &t), &d)| {
+                if t + d > hi {
+                    (hi - t) / d
+                } else if t + d < lo {
+                    (lo - t) / d
+                } else {
+                    1.0
+                }
+            })
+            .fold(1.0_f64, f64::min)
+            .max(0.0);
+        if reach < 1.0 {
+            delta *= reach;
+            shortened = true;
+        }
+        let mut trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
+        // the bound met exactly, not a rounding beyond it
+        for (t, &(lo, hi)) in trial.iter_mut().zip(bounds) {
+            *t = t.clamp(lo, hi);
+        }
         evals += 1;
         let mut small_reduction = false;
         let accepted = match f(&trial, accuracy) {
             Ok(et) => {
                 let ssr_t: f64 = et.r.iter().map(|x| x * x).sum();
-                // predicted reduction of the quadratic model
-                let pred: f64 = delta
-                    .iter()
-                    .enumerate()
-                    .map(|(k, d)| d * (mu * a[(k, k)].max(1e-12 * mu.max(1.0)) * d - g[k]))
-                    .sum();
+                // predicted reduction of the quadratic model: δᵀ(μDδ − g) for the damped step
+                // itself, −2gᵀδ − δᵀAδ for one that held components or was shortened
+                let pred: f64 = if any_active || shortened {
+                    -2.0 * g.dot(&delta) - delta.dot(&(&a * &delta))
+                } else {
+                    delta
+                        .iter()
+                        .enumerate()
+                        .map(|(k, d)| d * (mu * a[(k, k)].max(1e-12 * mu.max(1.0)) * d - g[k]))
+                        .sum()
+                };
                 let rho = (ssr - ssr_t) / pred.max(1e-300);
                 if ssr_t.is_finite() && rho > 0.0 {
                     let rel = (ssr - ssr_t) / ssr.max(1e-300);
@@ -348,6 +428,46 @@ mod tests {
         };
         let r = minimize(&[-1.2, 1.0], f, 200).unwrap();
         assert!((r.theta[0] - 1.0).abs() < 1e-8 && (r.theta[1] - 1.0).abs() < 1e-8, "{r:?}");
+    }
+
+    /// An optimum outside the box: y = p0·x + p1·x² fitted to data made with p1 = −0.5 and
+    /// p1 bounded below by 0. The box's optimum has p1 = 0 and p0 at the least-squares slope of
+    /// the data on x alone; refusing every step across the bound (the old way, an evaluation
+    /// that fails there) stalls p0 short of it.
+    #[test]
+    fn an_optimum_on_a_bound_moves_the_other_parameters_to_theirs() {
+        let xs: Vec<f64> = (1..=20).map(|i| i as f64 * 0.1).collect();
+        let ys: Vec<f64> = xs.iter().map(|x| 1.5 * x - 0.5 * x * x).collect();
+        let model = |p: &[f64]| -> Eval {
+            let r = xs.iter().zip(&ys).map(|(x, y)| p[0] * x + p[1] * x * x - y).collect();
+            let j = xs.iter().flat_map(|x| [*x, x * x]).collect();
+            Eval { r, j }
+        };
+        let slope = xs.iter().zip(&ys).map(|(x, y)| x * y).sum::<f64>() / xs.iter().map(|x| x * x).sum::<f64>();
+        let boxed = minimize_in(
+            &[1.0, 0.3],
+            &[(-10.0, 10.0), (0.0, 10.0)],
+            |p, _| Ok::<_, ()>(model(p)),
+            &Convergence::iterations(200),
+        )
+        .unwrap();
+        assert_eq!(boxed.theta[1], 0.0);
+        assert!((boxed.theta[0] - slope).abs() < 1e-9, "{boxed:?} vs slope {slope}");
+        assert!(boxed.reason.at_optimum(), "{:?}", boxed.reason);
+        // the wall as a failed evaluation: the search stops short
+        let walled = minimize(&[1.0, 0.3], |p| if p[1] < 0.0 { Err(()) } else { Ok(model(p)) }, 200).unwrap();
+        assert!((walled.theta[0] - slope).abs() > 1e-3, "{walled:?}");
+        // inside the box, the same steps as without it
+        let free = minimize(&[1.0, 0.3], |p| Ok::<_, ()>(model(p)), 200).unwrap();
+        let wide = minimize_in(
+            &[1.0, 0.3],
+            &[(-10.0, 10.0), (-10.0, 10.0)],
+            |p, _| Ok::<_, ()>(model(p)),
+            &Convergence::iterations(200),
+        )
+        .unwrap();
+        assert_eq!(free.theta, wide.theta);
+        assert_eq!(free.iterations, wide.iterations);
     }
 
     /// Exponential decay fit with a failing region (θ1 < 0 is "unstable").

@@ -22,7 +22,14 @@ fn both(loading: LoadingMode, noise: Noise) -> (FitResult, FitResult, usize) {
     ];
     let rec = record(&truth, 1.0, &protocol, noise, 7).unwrap();
     let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    let o = FitOptions { loading, starts: 2, ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01) };
+    // the white form in both: bins carry the samples' information under it (a fit on bin means
+    // states it; the noise-model form needs the samples' residuals)
+    let o = FitOptions {
+        loading,
+        starts: 2,
+        uncertainty: rsf_fit::fit::Uncertainty::White,
+        ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01)
+    };
     let full = FitOptions { bins: rsf_fit::fit::BinMeans::Off, ..o.clone() };
     let binned = FitOptions {
         bins: rsf_fit::fit::BinMeans::Replace { above: 10_000, fraction: rsf_fit::fit::BIN_FRACTION },
@@ -34,6 +41,12 @@ fn both(loading: LoadingMode, noise: Noise) -> (FitResult, FitResult, usize) {
     assert_eq!(pb.binning.as_ref().unwrap().samples, pf.used.len());
     assert!(bins * 4 < pf.used.len(), "{bins} bins of {} samples", pf.used.len());
     let (a, b) = (fit(&pf, &full).unwrap(), fit(&pb, &binned).unwrap());
+    // asked for the noise model, a fit on bin means states the white form, and says so
+    let asked = FitOptions { uncertainty: rsf_fit::fit::Uncertainty::NoiseModel, ..binned.clone() };
+    let c = fit(&pb, &asked).unwrap();
+    assert_eq!(c.uncertainty, rsf_fit::fit::Uncertainty::White);
+    assert!(c.noise.is_none());
+    assert_eq!(c.stderr, b.stderr);
     (a, b, bins)
 }
 
@@ -91,6 +104,8 @@ fn mcmc_on_bin_means_has_the_samples_noise_and_intervals() {
         loading: LoadingMode::Protocol,
         starts: 1,
         bins: rsf_fit::fit::BinMeans::Replace { above: 10_000, fraction: rsf_fit::fit::BIN_FRACTION },
+        // MCMC's likelihood is white: compared with the white linearised interval
+        uncertainty: rsf_fit::fit::Uncertainty::White,
         ..FitOptions::new(vec![std::sync::Arc::new(Slip)], 0.01)
     };
     let p = prepare(&rec, &segs, &o).unwrap();

@@ -145,7 +145,7 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
     fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
     window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0, max_iter=100,
-    accept_implausible=false))]
+    accept_implausible=false, uncertainty="noise-model"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -176,6 +176,7 @@ pub fn fit_json(
     threads: usize,
     max_iter: usize,
     accept_implausible: bool,
+    uncertainty: &str,
 ) -> PyResult<FitOut> {
     if max_iter == 0 {
         return Err(value_error("max_iter must be at least 1"));
@@ -214,6 +215,7 @@ pub fn fit_json(
     opts.window_um = window_um;
     opts.mu0_per_segment = mu0_per_segment;
     opts.weighting = word::<rsf_fit::fit::Weighting>(weights)?;
+    opts.uncertainty = word::<rsf_fit::fit::Uncertainty>(uncertainty)?;
     let cancel = Arc::new(AtomicBool::new(false));
     opts.cancel = Some(cancel.clone());
     let out = interruptible(py, &cancel, || -> Result<_, String> {

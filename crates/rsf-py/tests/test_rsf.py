@@ -421,3 +421,27 @@ def test_implausible_records_are_refused_unless_accepted():
             rsf.read_record(path)
         with pytest.warns(UserWarning, match="accepted as plausible"):
             rsf.read_record(path, accept_implausible=True)
+
+
+def test_uncertainties_under_the_noise_model_by_default():
+    """Issue 40, item 2: the intervals under the residuals' noise model, the white form beside
+    them and on request; a record of the coverage study with AR(1) noise (tests/data/coverage)."""
+    path = os.path.join(ROOT, "tests", "data", "coverage", "rec_106.csv")
+    truth = next(r for r in csv.DictReader(open(os.path.join(ROOT, "tests", "data", "coverage", "truth.csv")))
+                 if r["file"] == "rec_106.csv")
+    rec = rsf.read_record(path)
+    k = float(truth["k"])
+    res = rsf.fit(rec, law="aging", stiffness=k, loading="record")
+    assert res["uncertainty"] == "noise-model"
+    noise = res["noise"]
+    assert noise["ar1_tau_s"] == pytest.approx(float(truth["ar1_tau_s"]), rel=0.5)
+    for p, key in [("a", "a"), ("b1", "b"), ("dc1", "dc")]:
+        lo, hi = res["ci95"][p]
+        assert lo <= float(truth[key]) <= hi, p
+        wlo, whi = noise["ci95_white"][p]
+        assert (hi - lo) > 3 * (whi - wlo), p
+    white = rsf.fit(rec, law="aging", stiffness=k, loading="record", uncertainty="white")
+    assert white["uncertainty"] == "white" and "noise" not in white
+    assert white["ci95"]["a"] == noise["ci95_white"]["a"]
+    with pytest.raises(ValueError, match="uncertainty"):
+        rsf.fit(rec, law="aging", stiffness=k, uncertainty="bootstrap")

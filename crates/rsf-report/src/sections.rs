@@ -1,6 +1,6 @@
 //! The sections of the diagnosis page, one function each, in page order.
 
-use super::words::{cause_words, effect_value, heldout_words, law_words, param_meta, param_rows};
+use super::words::{cause_words, effect_meta, effect_value, heldout_words, law_words, param_rows};
 use super::{chart, charts, effect_summary, esc, table, verdict};
 use rsf_diagnose::{DECISIVE, Diagnosis};
 use rsf_fit::fit::FitResult;
@@ -90,7 +90,7 @@ pub(super) fn effect(d: &Diagnosis) -> String {
     let mut rows = Vec::new();
     let mut add = |class: &str, effect: &rsf_diagnose::Effect, f: Option<&FitResult>| {
         for e in &effect.entries() {
-            let (name, _, meaning) = param_meta(e.key);
+            let (name, _, meaning) = effect_meta(&e.key);
             rows.push((
                 class.to_string(),
                 vec![format!("<l>{}", esc(&name)), esc(&effect_value(e, f)), format!("<l>{}", esc(meaning))],

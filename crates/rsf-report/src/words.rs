@@ -1,7 +1,7 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use rsf_diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectValue, Evidence};
+use rsf_diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence};
 use rsf_fit::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
@@ -55,23 +55,31 @@ pub(crate) fn subscript(n: usize) -> String {
     n.to_string().chars().map(|c| D[c.to_digit(10).unwrap_or(0) as usize]).collect()
 }
 
-/// Name (with subscripts), unit and meaning of a fit or effect parameter: fit parameters by
-/// their parsed [`ParamName`], the effect's own keys by name.
-pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
-    const VC: &str = "cut-off velocity: time-dependent healing only below it";
-    const ALPHA: &str = "Linker–Dieterich coupling of state to normal-stress changes";
-    // the effect's keys that are not fit parameters, and its unindexed Vc and α
+const VC: &str = "cut-off velocity: time-dependent healing only below it";
+const ALPHA: &str = "Linker–Dieterich coupling of state to normal-stress changes";
+
+/// Name, unit and meaning of an effect parameter: its own words for the keys that are not fit
+/// parameters (the law, a share) and for the unindexed Vc, α, c and w; the fit parameter's
+/// otherwise.
+pub(crate) fn effect_meta(key: &EffectKey) -> (String, &'static str, &'static str) {
     match key {
-        "law" => return ("law".into(), "", "evolution law(s) of the extended model"),
-        "b_other_fraction" => {
-            return ("share of b".into(), "", "share of the evolution effect carried by the other law");
+        EffectKey::Law => ("law".into(), "", "evolution law(s) of the extended model"),
+        EffectKey::BOtherFraction => {
+            ("share of b".into(), "", "share of the evolution effect carried by the other law")
         }
-        "vc" => return ("Vc".into(), "µm/s", VC),
-        "alpha" => return ("α".into(), "", ALPHA),
-        "c" => return ("c".into(), "", "Nagata's stress-weakening coefficient"),
-        "w" => return ("w".into(), "", "aging share of one state's evolution rate"),
-        _ => {}
+        EffectKey::Vc => ("Vc".into(), "µm/s", VC),
+        EffectKey::Alpha => ("α".into(), "", ALPHA),
+        EffectKey::C => ("c".into(), "", "Nagata's stress-weakening coefficient"),
+        EffectKey::W => ("w".into(), "", "aging share of one state's evolution rate"),
+        EffectKey::B2 | EffectKey::Dc2 | EffectKey::G | EffectKey::K | EffectKey::LawParameter(_) => {
+            param_meta(key.text())
+        }
     }
+}
+
+/// Name (with subscripts), unit and meaning of a fit parameter, by its parsed [`ParamName`]
+/// (a name that does not parse is shown as written).
+pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
     let Some(p) = ParamName::parse(key) else {
         return (key.to_string(), "", "");
     };
@@ -100,7 +108,7 @@ pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
 /// An effect value, formatted with its unit and, from the fit `f`, the standard error of the
 /// fitted parameter it is.
 pub(crate) fn effect_value(e: &EffectEntry, f: Option<&FitResult>) -> String {
-    let (_, unit, _) = param_meta(e.key);
+    let (_, unit, _) = effect_meta(&e.key);
     match &e.value {
         EffectValue::Number(x) => {
             let se = f.zip(e.parameter.as_ref()).and_then(|(f, p)| f.stderr.get(&p.text()).copied());
@@ -113,7 +121,7 @@ pub(crate) fn effect_value(e: &EffectEntry, f: Option<&FitResult>) -> String {
 /// An effect in one line: `b₂ = 0.00401, Dc₂ = 59.6 µm` (without uncertainties; escaped HTML).
 pub fn effect_summary(effect: &Effect) -> String {
     let parts: Vec<String> =
-        effect.entries().iter().map(|e| format!("{} = {}", param_meta(e.key).0, effect_value(e, None))).collect();
+        effect.entries().iter().map(|e| format!("{} = {}", effect_meta(&e.key).0, effect_value(e, None))).collect();
     esc(&parts.join(", "))
 }
 
@@ -213,40 +221,39 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
 fn need(d: &Diagnosis) -> String {
     let f = d.extended.as_ref();
     let entries = d.effect.entries();
-    let val = |k: &str| entries.iter().find(|e| e.key == k).map(|e| effect_value(e, f));
+    let val = |k: EffectKey| entries.iter().find(|e| e.key == k).map(|e| effect_value(e, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
     let plain = cause_words(d.cause).to_string();
     match d.cause {
-        Cause::EvolutionLaw => match (d.effect.law.as_deref(), val("b_other_fraction")) {
+        Cause::EvolutionLaw => match (d.effect.law.as_deref(), val(EffectKey::BOtherFraction)) {
             (Some(l), Some(share)) if l.contains('+') => {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
             }
             (Some(l), _) => {
                 // a built-in law's own parameter (c, w) and a registered law's (power-law aging's n)
-                let registered = d.effect.law_parameters.keys().map(String::as_str);
-                let own = ["c", "w"]
-                    .into_iter()
-                    .chain(registered)
-                    .filter_map(|k| val(k).map(|v| format!("{} = {v}", param_meta(k).0)))
+                let own = entries
+                    .iter()
+                    .filter(|e| matches!(e.key, EffectKey::C | EffectKey::W | EffectKey::LawParameter(_)))
+                    .map(|e| format!("{} = {}", effect_meta(&e.key).0, effect_value(e, f)))
                     .collect::<Vec<_>>();
                 let own = if own.is_empty() { String::new() } else { format!(" ({})", own.join(", ")) };
                 format!("the {} law{own} instead of the {base_law} law", law_words(l))
             }
             _ => plain,
         },
-        Cause::SecondStateVariable => match (val("b2"), val("dc2")) {
+        Cause::SecondStateVariable => match (val(EffectKey::B2), val(EffectKey::Dc2)) {
             (Some(b), Some(dc)) => format!("a second state variable (b₂ = {b}, Dc₂ = {dc})"),
             _ => plain,
         },
-        Cause::CutoffVelocity => match val("vc") {
+        Cause::CutoffVelocity => match val(EffectKey::Vc) {
             Some(v) => format!("a cut-off velocity: the Kato–Tullis law with Vc = {v}"),
             None => plain,
         },
-        Cause::SlipTrend => match val("g") {
+        Cause::SlipTrend => match val(EffectKey::G) {
             Some(g) => format!("a slip trend in friction, g = {g}"),
             None => plain,
         },
-        Cause::Stiffness => match val("k") {
+        Cause::Stiffness => match val(EffectKey::K) {
             Some(k) => {
                 format!(
                     "a machine stiffness of k = {k} instead of the nominal {}",
@@ -255,7 +262,7 @@ fn need(d: &Diagnosis) -> String {
             }
             None => plain,
         },
-        Cause::NormalStressCoupling => match val("alpha") {
+        Cause::NormalStressCoupling => match val(EffectKey::Alpha) {
             Some(a) => format!("a Linker–Dieterich coupling of state to normal-stress changes, α = {a}"),
             None => plain,
         },
@@ -395,7 +402,7 @@ pub fn verdict(d: &Diagnosis) -> String {
             sec.effect
                 .entries()
                 .iter()
-                .map(|e| format!("{} = {}", param_meta(e.key).0, effect_value(e, Some(&sec.fit))))
+                .map(|e| format!("{} = {}", effect_meta(&e.key).0, effect_value(e, Some(&sec.fit))))
                 .collect::<Vec<_>>()
                 .join(", ")
         );
@@ -413,10 +420,10 @@ mod tests {
         assert_eq!(param_meta("mu0").0, "μ₀");
         assert_eq!(param_meta("dc2"), ("Dc₂".into(), "µm", "slip distance of the second state"));
         assert_eq!(param_meta("vc1").1, "µm/s");
-        assert_eq!(param_meta("vc").0, "Vc");
+        assert_eq!(super::effect_meta(&rsf_diagnose::EffectKey::Vc).0, "Vc");
         assert_eq!(param_meta("alpha1").0, "α₁");
         assert_eq!(param_meta("c1").0, "c₁");
-        assert_eq!(param_meta("b_other_fraction").0, "share of b");
+        assert_eq!(super::effect_meta(&rsf_diagnose::EffectKey::BOtherFraction).0, "share of b");
         assert_eq!(param_meta("not a name").0, "not a name");
     }
 }

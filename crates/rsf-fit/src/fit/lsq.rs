@@ -1,14 +1,15 @@
 //! Starting points and Levenberg–Marquardt under the work budget: [`fit`].
 
-use super::covariance::{covariance, intervals};
+use super::covariance::{covariance, covariance_under, intervals};
 use super::forward::{AtSamples, evaluate, model_at_samples};
 use super::params::within_bounds;
 use super::{
-    AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, ParamMap, ParamName, Params, Prepared, SegmentRow,
-    parameter_map,
+    AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, NoiseSummary, ParamMap, ParamName, Params, Prepared,
+    SegmentRow, Uncertainty, parameter_map,
 };
 use crate::lm::{self, Eval};
 use rsf_core::state_offset;
+use rsf_noise::NoiseModel;
 use rsf_solvers::SolveError;
 use std::cell::Cell;
 use std::collections::BTreeMap;
@@ -68,6 +69,7 @@ impl StartRun {
 fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let map = parameter_map(p, opts)?;
     let m = map.free.len();
+    let bounds = map.theta_bounds();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     // work counted in integrator steps: `used` before the starts (a nested one-state fit)
     let used = Cell::new(0u64);
@@ -102,7 +104,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
             }
             Ok(Eval { r, j })
         };
-        let result = lm::minimize_with(start, &objective, convergence);
+        let result = lm::minimize_in(start, &bounds, &objective, convergence);
         StartRun { result, steps: used.get(), hit: hit.get(), allowance }
     };
     // starting points: the data-derived guess, then Dc and a scaled
@@ -264,7 +266,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
     let full = map.full(&best.theta);
     // the curve (and slip rate) at the samples, and the Jacobian for the covariance on the
     // points that carry it
-    let (model_mu, slip_rate, cov, steps) = match searched {
+    let (model_mu, slip_rate, raw_j, points, steps) = match searched {
         Some(pb) => {
             let eb = evaluate(pb, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
             // (where the plain solver fails, the sensitivity solver's curve serves)
@@ -277,16 +279,12 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
             });
             let c = c.map_err(FitError::Start)?;
             // σ² from the samples' residuals (below), the Jacobian of the bins with their counts
-            let cov =
-                move |s2: f64| covariance(&eb.raw_j, &pb.weights, pb.binning.as_ref().map(|b| &b.counts[..]), m, s2);
-            (c.mu, c.slip_rate, Box::new(cov) as Box<dyn Fn(f64) -> _>, steps + eb.steps + c.steps)
+            (c.mu, c.slip_rate, eb.raw_j, pb, steps + eb.steps + c.steps)
         }
         None => {
             let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
-            let raw_j = e.raw_j;
-            let cov = move |s2: f64| covariance(&raw_j, &p.weights, p.binning.as_ref().map(|b| &b.counts[..]), m, s2);
             let v = model_at_samples(p, &map, opts, &full).map(|c| c.slip_rate).unwrap_or_default();
-            (e.model_mu, v, Box::new(cov) as Box<dyn Fn(f64) -> _>, steps + e.steps)
+            (e.model_mu, v, e.raw_j, p, steps + e.steps)
         }
     };
     let resid: Vec<f64> = model_mu.iter().zip(&data).map(|(a, b)| a - b).collect();
@@ -295,19 +293,53 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
     let ssr_raw: f64 = resid.iter().enumerate().map(|(r, x)| p.count(r) * x * x + p.within(r)).sum();
     // σ² from the unweighted residuals
     let s2 = ssr_raw / (n as f64 - m as f64).max(1.0);
-    let cov = cov(s2);
-    let (ci95, stderr) = intervals(&map, &best.theta, &cov);
+    let counts = points.binning.as_ref().map(|b| &b.counts[..]);
+    let white = covariance(&raw_j, &points.weights, counts, m, s2);
+    let (white_ci95, white_stderr) = intervals(&map, &best.theta, &white);
+    let noise = match opts.uncertainty {
+        Uncertainty::White => None,
+        // residuals of bin means only (the samples are never evaluated): their noise is not the
+        // samples' (a bin's white part is σ²/c), and a model fitted to them mistakes that for
+        // drift; the white form is stated, and said (`--every-sample` gives the other)
+        Uncertainty::NoiseModel if p.binning.is_some() => None,
+        Uncertainty::NoiseModel => residual_noise(p, &resid),
+    };
+    let (cov, ci95, stderr, noise) = match noise {
+        Some(model) => {
+            let times: Vec<f64> = points.used.iter().map(|&i| points.record.time[i]).collect();
+            let cov = covariance_under(&raw_j, &points.weights, counts, &times, m, &model);
+            let (ci95, stderr) = intervals(&map, &best.theta, &cov);
+            let summary = NoiseSummary {
+                white_sd: model.white_variance.sqrt(),
+                ar1_sd: model.ar1_variance.sqrt(),
+                ar1_tau_s: model.ar1_tau_s,
+                drift_share: model.drift_share,
+                drift_beta: model.drift_beta,
+                n_effective: model.n_effective,
+                in_time: model.sampling.is_some(),
+                stderr_white: white_stderr,
+                ci95_white: white_ci95,
+            };
+            (cov, ci95, stderr, Some(summary))
+        }
+        None => (white, white_ci95, white_stderr, None),
+    };
+    // within 0.1 % of a bound, or on it (a bound at 0, such as α's, is reached exactly by the
+    // search, which ends a step on the bound it meets: `lm::minimize_in`)
+    let boxes = map.theta_bounds();
     let at_bound: Vec<String> = map
         .free
         .iter()
-        .filter(|&&i| {
+        .enumerate()
+        .filter(|&(k, &i)| {
             let mut f2 = full.clone();
             f2[i] *= 0.999;
             let mut f3 = full.clone();
             f3[i] *= 1.001;
-            within_bounds(&map, &f2).is_err() || within_bounds(&map, &f3).is_err()
+            let on = best.theta[k] <= boxes[k].0 || best.theta[k] >= boxes[k].1;
+            on || within_bounds(&map, &f2).is_err() || within_bounds(&map, &f3).is_err()
         })
-        .map(|&i| map.names[i].clone())
+        .map(|(_, &i)| map.names[i].clone())
         .collect();
     // the likelihood of what the fit minimises: noise σ/w_r at sample r (w normalised to mean
     // square 1; uniform weights give the usual Gaussian likelihood), so that models compared by
@@ -366,6 +398,8 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
         params,
         ci95,
         stderr,
+        uncertainty: if noise.is_some() { Uncertainty::NoiseModel } else { Uncertainty::White },
+        noise,
         constraints: map.constraints.clone(),
         at_bound,
         rms: (ssr_raw / n as f64).sqrt(),
@@ -390,3 +424,17 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
         cov_theta: cov.as_slice().to_vec(),
     })
 }
+
+/// The noise model of a fit's residuals at their samples' times (`rsf-noise`), or `None` when
+/// they are too few to fit one ([`MIN_NOISE_POINTS`]).
+fn residual_noise(p: &Prepared, resid: &[f64]) -> Option<NoiseModel> {
+    if resid.len() < MIN_NOISE_POINTS || resid.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let times: Vec<f64> = p.used.iter().map(|&i| p.record.time[i]).collect();
+    Some(NoiseModel::fit_at(resid, &times).0)
+}
+
+/// Fewer residuals than this give no noise model (its spectrum needs a few dozen Fourier
+/// ordinates per part): the white form is reported.
+const MIN_NOISE_POINTS: usize = 64;

@@ -32,8 +32,8 @@ pub use forward::{Prediction, model_curve, predict, record_span};
 pub use lsq::fit;
 pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
-    NormalStressMode, SearchPrecision, Weighting,
+    NormalStressMode, SearchPrecision, Uncertainty, Weighting,
 };
 pub use params::{Constraint, ParamMap, ParamName, parameter_map};
 pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};
-pub use result::{Curve, Estimate, FitResult, Params, SegmentRow};
+pub use result::{Curve, Estimate, FitResult, NoiseSummary, Params, SegmentRow};

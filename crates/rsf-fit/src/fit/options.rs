@@ -67,6 +67,20 @@ pub enum AlphaFit {
 
 rsf_core::vocabulary!(AlphaFit, "alpha fit", { Fixed => "fixed", Shared => "shared", PerState => "per-state" });
 
+/// How a fit's standard errors and 95 % intervals treat the residuals' noise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Uncertainty {
+    /// Under the noise model fitted to the fit's own residuals — white, AR(1) and power-law
+    /// drift, in time (`rsf-noise`, the model the diagnosis scores with): the sandwich
+    /// H⁻¹ JᵀW²ΣW²J H⁻¹. Lab residuals are correlated; intervals that assume otherwise are
+    /// too narrow by the square root of the correlation length in samples.
+    NoiseModel,
+    /// Independent residuals of one σ, σ² from the residuals: H⁻¹ JᵀW⁴J H⁻¹ σ².
+    White,
+}
+
+rsf_core::vocabulary!(Uncertainty, "uncertainty", { NoiseModel => "noise-model", White => "white" });
+
 /// Fit settings.
 #[derive(Clone, Debug)]
 pub struct FitOptions {
@@ -90,6 +104,9 @@ pub struct FitOptions {
     pub exclude: Vec<(f64, f64)>,
     /// Sample weights.
     pub weighting: Weighting,
+    /// How the standard errors and intervals treat the residuals' noise (default: under the
+    /// fitted noise model).
+    pub uncertainty: Uncertainty,
     /// What drives the model.
     pub loading: LoadingMode,
     /// Integrator tolerance.
@@ -229,6 +246,7 @@ impl FitOptions {
             window_um: None,
             exclude: vec![],
             weighting: Weighting::EqualSegments,
+            uncertainty: Uncertainty::NoiseModel,
             loading: LoadingMode::Record,
             rtol: 1e-7,
             max_iter: 100,

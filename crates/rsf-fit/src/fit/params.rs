@@ -316,6 +316,21 @@ impl ParamMap {
     pub fn in_bounds(&self, theta: &[f64]) -> bool {
         within_bounds(self, &self.full(theta)).is_ok()
     }
+    /// Each θ entry's physical range on its own scale (logarithms for log-fitted entries), for
+    /// the search's box (`lm::minimize_in`); unbounded where the parameter has no spec.
+    pub(super) fn theta_bounds(&self) -> Vec<(f64, f64)> {
+        self.free
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                if i >= self.np {
+                    return (f64::NEG_INFINITY, f64::INFINITY);
+                }
+                let ParamSpec { lo, hi, .. } = self.specs[i];
+                if self.is_log(k) { (lo.max(0.0).ln(), hi.ln()) } else { (lo, hi) }
+            })
+            .collect()
+    }
     /// Whether θ entry k is a logarithm.
     pub fn is_log(&self, k: usize) -> bool {
         matches!(self.slots[self.free[k]], Slot::Free { log: true, .. })

@@ -1,6 +1,6 @@
 //! What a fit returns.
 
-use super::{BudgetHit, LoadingMode, ParamName, Weighting};
+use super::{BudgetHit, LoadingMode, ParamName, Uncertainty, Weighting};
 use crate::lm::StopReason;
 use crate::segment::SegmentKind;
 use serde::{Deserialize, Serialize};
@@ -88,6 +88,32 @@ impl Params {
     }
 }
 
+/// The noise the fit's uncertainties were stated under ([`Uncertainty::NoiseModel`]): the
+/// model fitted to the fit's residuals, in short, and the white-noise standard errors beside
+/// the ones reported, for comparison.
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseSummary {
+    /// White part, standard deviation per sample.
+    pub white_sd: f64,
+    /// AR(1) part, standard deviation (0 without one).
+    pub ar1_sd: f64,
+    /// AR(1) correlation time, s.
+    pub ar1_tau_s: f64,
+    /// Power-law drift: its share of the residual variance.
+    pub drift_share: f64,
+    /// Power-law exponent β of the drift (S ∝ f^−β).
+    pub drift_beta: f64,
+    /// Effective independent samples for a slowly varying effect.
+    pub n_effective: f64,
+    /// Whether the model was fitted in time (a variably sampled record) rather than in sample
+    /// index.
+    pub in_time: bool,
+    /// The standard errors the white-noise form gives, by name.
+    pub stderr_white: BTreeMap<String, f64>,
+    /// The 95 % intervals the white-noise form gives, by name.
+    pub ci95_white: BTreeMap<String, [f64; 2]>,
+}
+
 /// The result of a fit.
 #[derive(Clone, Debug, Serialize)]
 pub struct FitResult {
@@ -97,6 +123,12 @@ pub struct FitResult {
     pub ci95: BTreeMap<String, [f64; 2]>,
     /// Standard errors of the free parameters.
     pub stderr: BTreeMap<String, f64>,
+    /// How `stderr` and `ci95` treat the residuals' noise.
+    pub uncertainty: Uncertainty,
+    /// The noise model they were computed under (absent for [`Uncertainty::White`], or when
+    /// the residuals were too few to fit one: then the white form is reported).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise: Option<NoiseSummary>,
     /// Constraints applied.
     pub constraints: Vec<String>,
     /// Free parameters that ended at a physical bound: the data do not constrain them there.

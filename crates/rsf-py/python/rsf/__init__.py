@@ -498,7 +498,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         starts: int = 4, mcmc: Optional[int] = None, chains: int = 4, seed: int = 1, progress: bool = False,
         window_um: Optional[float] = None, mu0_per_segment: bool = False, weights: str = "equal",
         per_segment: bool = False, threads: int = 0, time=None, load_point=None, mu=None,
-        normal_stress=None, max_iter: int = 100, accept_implausible: bool = False) -> FitResult:
+        normal_stress=None, max_iter: int = 100, accept_implausible: bool = False,
+        uncertainty: str = "noise-model") -> FitResult:
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
@@ -510,7 +511,10 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
     stderr), ``threads`` (for the starts after the first; 0: all cores; the result does not
     depend on it), ``max_iter`` (LM iterations per start), ``accept_implausible`` (fit a record
     that does not look like a friction experiment instead of raising ``ValueError``; the
-    findings are issued as ``UserWarning``).
+    findings are issued as ``UserWarning``), ``uncertainty`` (``"noise-model"``: standard errors
+    and intervals under the white, AR(1) and drift noise fitted to the residuals, summarised in
+    ``noise`` with the white-noise ``stderr_white`` beside them; ``"white"``: independent
+    residuals).
 
     Returns a :class:`FitResult`: ``params`` (``a``, ``b`` and ``dc`` lists per state, ``mu0``,
     ``k``, ``g``, ``alpha``…), ``converged`` (False, with a ``RuntimeWarning``, when no start
@@ -526,7 +530,7 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
         mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads,
-        max_iter=max_iter, accept_implausible=accept_implausible)
+        max_iter=max_iter, accept_implausible=accept_implausible, uncertainty=uncertainty)
     _warn_accepted(accept_implausible, t, x, m, "rsf.fit")
     result = FitResult(json.loads(raw), samples, names, curve)
     if not result.get("converged", True):

@@ -155,6 +155,8 @@ def fit(
     mu: Optional[npt.ArrayLike] = ...,
     normal_stress: Optional[npt.ArrayLike] = ...,
     max_iter: int = ...,
+    accept_implausible: bool = ...,
+    uncertainty: str = ...,
 ) -> FitResult: ...
 def diagnose(
     record: Optional[Mapping[str, Any]] = ...,

@@ -369,17 +369,25 @@ fn drift_components(m: &NoiseModel, dt_min: f64) -> Vec<(f64, f64)> {
     taus.iter().map(|&t| (t, c * t.powf(m.drift_beta - 1.0))).collect()
 }
 
+/// The model's correlated parts in time as OU processes (time constant s, variance): the
+/// drift's relaxations, then the AR(1) part read as the OU of time constant `ar1_tau_s` (a
+/// model fitted in sample index is read in time so too). The white part is per sample.
+pub(crate) fn time_parts(m: &NoiseModel) -> Vec<(f64, f64)> {
+    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
+    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
+    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
+        parts.push((m.ar1_tau_s, m.ar1_variance));
+    }
+    parts
+}
+
 /// The Kalman filter at `times` under the model's parts in time (white per sample, OU, the
 /// drift's relaxations), run on the residuals `r` (their mean taken out: every model fits μ0)
 /// and on a constant 1 at once — the gains do not depend on the data. Returns the
 /// log-likelihood of `r`, −½Σ(ln Sᵢ + vᵢ²/Sᵢ) with innovations vᵢ of variance Sᵢ, and 1ᵀΣ⁻¹1.
 fn kalman(m: &NoiseModel, r: &[f64], times: &[f64]) -> (f64, f64) {
     const K: usize = MAX_DRIFT_COMPONENTS + 1;
-    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
-    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
-    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
-        parts.push((m.ar1_tau_s, m.ar1_variance));
-    }
+    let parts = time_parts(m);
     let k = parts.len().min(K);
     let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
     let mean = r.iter().sum::<f64>() / r.len().max(1) as f64;
@@ -437,11 +445,7 @@ fn kalman(m: &NoiseModel, r: &[f64], times: &[f64]) -> (f64, f64) {
 /// between two models' predictions is information.
 pub fn whiten(m: &NoiseModel, times: &[f64], white_scale: &[f64], xs: &mut [Vec<f64>]) {
     const K: usize = MAX_DRIFT_COMPONENTS + 1;
-    let dt_min = m.sampling.as_ref().map_or(m.dt, |s| s.interval_range_s[0]);
-    let mut parts: Vec<(f64, f64)> = drift_components(m, dt_min);
-    if m.ar1_variance > 0.0 && m.ar1_tau_s > 0.0 {
-        parts.push((m.ar1_tau_s, m.ar1_variance));
-    }
+    let parts = time_parts(m);
     let k = parts.len().min(K);
     let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
     let nv = xs.len();

@@ -21,7 +21,7 @@
 //!
 //! A variably sampled record (100 Hz after a step, 1 Hz in a hold) gets the same three parts
 //! defined in time instead of sample index, an exact state-space likelihood and replicates in
-//! time: `diagnose/sampling.rs` ([`NoiseModel::fit_at`] chooses, in `diagnose/timed.rs`).
+//! time: `sampling.rs` ([`NoiseModel::fit_at`] chooses, in `timed.rs`).
 
 use rand_distr::{Distribution, StandardNormal};
 use rustfft::FftPlanner;
@@ -79,7 +79,7 @@ pub struct NoiseModel {
     pub periodogram: Vec<[f64; 3]>,
     /// How the sampling entered the model: absent for a uniformly sampled record (the
     /// spectrum in sample index); for a variably sampled one, the stretches of one interval
-    /// the spectrum in time was fitted to (`diagnose/sampling.rs`).
+    /// the spectrum in time was fitted to (`sampling.rs`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sampling: Option<VariableSampling>,
     /// The drift part's reference length in median intervals: the lowest resolved frequency

@@ -10,7 +10,7 @@ use super::sampling;
 impl NoiseModel {
     /// Fits the model to residuals `r` at sample `times` (s): in sample index for a uniformly
     /// sampled record ([`NoiseModel::fit`]), in time for a variably sampled one
-    /// (`diagnose/sampling.rs`). Returns the model and the residuals' log-likelihood under it
+    /// (`sampling.rs`). Returns the model and the residuals' log-likelihood under it
     /// ([`NoiseModel::log_likelihood_at`]).
     pub fn fit_at(r: &[f64], times: &[f64]) -> (NoiseModel, f64) {
         if sampling::is_variable(times) {
@@ -33,7 +33,7 @@ impl NoiseModel {
     }
 
     /// Noise at the sample `times` (s). For a model in time, every part in time
-    /// (`diagnose/sampling.rs`). Otherwise the white and AR(1) parts per sample, the drift part in
+    /// (`sampling.rs`). Otherwise the white and AR(1) parts per sample, the drift part in
     /// time — drawn on a uniform grid at the model's median interval and interpolated — so
     /// that a record sampled densely after steps and sparsely in holds gets its drift where
     /// real drift is, in time, not in sample count.
