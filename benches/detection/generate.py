@@ -698,16 +698,36 @@ OUTSIDE_TESTS = {
 }
 
 
-def outside_tests(out, names=None):
+#: The records of tests/data/design (issue 41), made like OUTSIDE_TESTS: name: (law
+#: parameters, k, protocol, AR(1) sigma, noise stream). A record and its continuation share a
+#: noise stream, so the continuation's rows up to the first record's end are the first record's.
+STEPS_ONLY = STEPS + [(30.0, 10.0, "slide"), (40.0, 1.0, "slide"), (300.0, 0.1, "slide"), (40.0, 1.0, "slide")]
+DESIGN_TESTS = {
+    # a one-state Aging/Slip mixture with a small aging share, seen through steps only; then the
+    # same record continued through a 10^4 s hold and a reslide (issue 41: long holds turned it
+    # into a decisive wrong cut-off)
+    "mix1_steps": (dict(laws=["mix1"], w=0.15), 0.02, STEPS_ONLY, 0.0, 2000),
+    "mix1_steps_hold": (dict(laws=["mix1"], w=0.15), 0.02,
+                        STEPS_ONLY + [(10000.0, 0.0, "hold"), (50.0, 1.0, "slide")], 0.0, 2000),
+    # a rate-dependent direct effect (a law no library has): the local slope dmu/dlnV spans
+    # a (1 -+ 0.35) over the record's slip rates, Slip-law state; steps only
+    "rate_a_steps": (dict(laws=["slip"], a1=-0.35 * 0.008 / (math.log(10.0) + 1.0)), 0.02, STEPS_ONLY, 0.0, 2001),
+}
+
+
+def outside_tests(out, names=None, table=None):
     """The small test records of tests/data/outside (<= 8,000 rows each, %.10g): one state,
     a = 0.008, b = 0.011, Dc = 5 um, mu0 = 0.6, V0 = 1 um/s; white noise 1.5e-4 (prz_holds:
-    plus AR(1) of 1e-4 with tau = 2 s)."""
+    plus AR(1) of 1e-4 with tau = 2 s). With `table` (DESIGN_TESTS), its records instead, each
+    with its own noise stream."""
     out.mkdir(parents=True, exist_ok=True)
-    for idx, (name, (law, k, segs, ar1)) in enumerate(OUTSIDE_TESTS.items()):
+    rows = OUTSIDE_TESTS.items() if table is None else table.items()
+    for idx, (name, spec) in enumerate(rows):
+        law, k, segs, ar1 = spec[:4]
         if names and name not in names:
             continue
         t1 = time.time()
-        rng = np.random.default_rng([38, 1000 + idx])
+        rng = np.random.default_rng([38, spec[4] if len(spec) > 4 else 1000 + idx])
         p = dict(mu0=0.6, a=0.008, b=[0.011], dc=[5.0], g=0.0, k=k, v0=1.0, vc=None, **law)
         seg_t, ts = piecewise_grid(segs)
         seg_v = [s[1] for s in segs]
@@ -856,10 +876,15 @@ if __name__ == "__main__":
                     + ",".join(OUTSIDE))
     ap.add_argument("--outside-tests", type=Path, metavar="DIR",
                     help="write the four small test records of tests/data/outside")
+    ap.add_argument("--design-tests", type=Path, metavar="DIR",
+                    help="write the small test records of tests/data/design (issue 41)")
     args = ap.parse_args()
     ROWS_SCALE = args.rows_scale
     if args.outside_tests:
         outside_tests(args.outside_tests)
+        sys.exit(0)
+    if args.design_tests:
+        outside_tests(args.design_tests, table=DESIGN_TESTS)
         sys.exit(0)
     if args.issue21:
         issue21_case(args.issue21)

@@ -149,8 +149,10 @@ pub fn run(a: &DesignArgs) -> Result<()> {
         for r in design.proposals.iter().take(a.top) {
             out += &row(r.rank.to_string(), r);
         }
-        if let Some(s) = &design.standard {
-            out += &row("std".into(), s);
+        // the standard segments of the same time, the best of them marked
+        for s in &design.standards {
+            let best = design.standard.as_ref().is_some_and(|b| b.standard == s.standard);
+            out += &row(if best { "std*".into() } else { "std".into() }, s);
         }
     }
     crate::write_stdout(&out)?;

@@ -345,20 +345,29 @@ fn design_refuses_bad_constraints_before_any_work() {
     }
 }
 
+/// The basalt step: a slip trend, decisively, and no other model credible. The cause is
+/// decided, its effect (g) is not measured yet: the design proposes the segment that best
+/// measures it, with g's standard error now and expected after (before issue 41 it refused:
+/// "one credible model … no next segment is needed").
 #[test]
-fn design_says_when_the_record_already_decides() {
-    // the basalt step: a slip trend, decisively; no other model is credible
+fn design_measures_the_effect_when_the_record_already_decides() {
     let json = tmp("design_basalt.json");
     let out = design_basalt().arg("--json").arg(&json).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("one credible model (slip_trend)"), "{text}");
+    assert!(text.contains("one credible model (slip_trend): the segment that best measures its effect"), "{text}");
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert!(v["proposals"].as_array().unwrap().is_empty());
-    // a protocol asked for where there is none is an error, and nothing is written
+    let top = &v["proposals"][0];
+    let g = &top["effect"]["parameters"][0];
+    assert_eq!(g["name"], "g");
+    assert!(g["stderr_expected"].as_f64().unwrap() < g["stderr_now"].as_f64().unwrap(), "{g}");
+    assert!(!v["standards"].as_array().unwrap().is_empty());
+    // a protocol asked for where no proposal fits the constraints is an error, and nothing is
+    // written
     let toml = tmp("design_basalt.toml");
-    let out = design_basalt().arg("--protocol").arg(&toml).output().unwrap();
-    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("no proposal to write"));
+    let out = design_basalt().args(["--max-time", "5"]).arg("--protocol").arg(&toml).output().unwrap();
+    assert!(!out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no proposal fits the constraints"));
     assert!(!toml.exists());
 }
 

@@ -2,7 +2,9 @@
 //! it was made with; from a diagnosis in memory ([`Basis::of`]) or rebuilt from its JSON
 //! ([`Rebuilt::from_json`], `rsf design --from`).
 
-use rsf_diagnose::{Cause, DiagnoseOptions, Diagnosis, cause_variants, diagnosis_fit_options, without_spikes};
+use rsf_diagnose::{
+    AdequacyVerdict, Cause, DiagnoseOptions, Diagnosis, cause_variants, diagnosis_fit_options, without_spikes,
+};
 use rsf_fit::data::Record;
 use rsf_fit::fit::{FitError, FitOptions, FitResult, LoadingMode, Params, fit, prepare};
 use rsf_fit::parallel::par_map;
@@ -17,8 +19,13 @@ pub const REBUILD_LNL_TOLERANCE: f64 = 1.0;
 /// What a diagnosis says of one candidate model, whatever it was read from.
 #[derive(Clone, Debug)]
 pub struct CandidateScore {
+    /// The model's name in the design: the cause's, or for another way of it the cause's with
+    /// its laws (`evolution_law (nagata)`).
+    pub name: String,
     /// The cause it stands for.
     pub cause: Cause,
+    /// Whether its fit reached an optimum (one that did not is not designed for).
+    pub converged: bool,
     /// The extension in words.
     pub extension: String,
     /// Its ΔBIC against the baseline.
@@ -47,8 +54,20 @@ pub struct Basis<'a> {
     pub baseline: &'a FitResult,
     /// The options it was made with.
     pub baseline_options: &'a FitOptions,
-    /// The candidate extensions.
+    /// The adequacy test's verdict on the model named (the baseline for `none`).
+    pub adequacy: AdequacyVerdict,
+    /// The candidate extensions, and the other ways of each (another law, a mixture).
     pub candidates: Vec<BasisModel<'a>>,
+}
+
+/// The design's name of another way of `cause` whose model has the laws `laws`.
+pub fn alternative_name(cause: Cause, laws: &[String]) -> String {
+    format!("{} ({})", cause.as_str(), laws.join("+"))
+}
+
+/// An alternative's parameters at a bound that the baseline did not already have there.
+fn alternative_at_bound(a: &rsf_diagnose::Alternative, base: &FitResult) -> Vec<String> {
+    a.fit.at_bound.iter().filter(|n| !base.at_bound.contains(n)).cloned().collect()
 }
 
 fn excluded(at_bound: &[String], unresolved: Option<&String>) -> Option<String> {
@@ -66,21 +85,43 @@ impl<'a> Basis<'a> {
             .baseline_options
             .as_ref()
             .ok_or_else(|| FitError::Setup("the diagnosis carries no baseline options to design from".into()))?;
-        let candidates = d
-            .candidates
-            .iter()
-            .map(|c| BasisModel {
+        let mut candidates = vec![];
+        for c in &d.candidates {
+            candidates.push(BasisModel {
                 score: CandidateScore {
+                    name: c.cause.as_str().into(),
                     cause: c.cause,
+                    converged: c.converged,
                     extension: c.extension.clone(),
                     delta_bic: c.delta_bic,
                     delta_aic: c.delta_aic,
                     excluded: excluded(&c.at_bound, c.unresolved.as_ref()),
                 },
                 fit: c.fit.as_ref().zip(c.options.as_ref()),
-            })
-            .collect();
-        Ok(Basis { cause: d.cause, loading: d.loading, baseline: &d.baseline, baseline_options, candidates })
+            });
+            for a in &c.alternatives {
+                candidates.push(BasisModel {
+                    score: CandidateScore {
+                        name: alternative_name(c.cause, &a.fit.params.laws),
+                        cause: c.cause,
+                        converged: a.converged,
+                        extension: a.extension.clone(),
+                        delta_bic: a.delta_bic,
+                        delta_aic: a.delta_aic,
+                        excluded: excluded(&alternative_at_bound(a, &d.baseline), None),
+                    },
+                    fit: Some((&a.fit, &a.options)),
+                });
+            }
+        }
+        Ok(Basis {
+            cause: d.cause,
+            loading: d.loading,
+            baseline: &d.baseline,
+            baseline_options,
+            adequacy: d.adequacy.verdict,
+            candidates,
+        })
     }
 }
 
@@ -95,6 +136,7 @@ struct RebuiltModel {
 /// covariance and the residuals the JSON does not hold. The ΔBICs and the verdict are the JSON's.
 pub struct Rebuilt {
     cause: Cause,
+    adequacy: AdequacyVerdict,
     loading: LoadingMode,
     baseline: FitResult,
     baseline_options: FitOptions,
@@ -130,6 +172,12 @@ impl Rebuilt {
         let cause_s = field(&v, &["cause"])?.as_str().unwrap_or_default();
         let cause = Cause::parse(cause_s)
             .ok_or_else(|| FitError::Setup(format!("diagnosis JSON: cause `{cause_s}` is not one rsf knows")))?;
+        // (a JSON written before the adequacy test holds none: its verdict untested)
+        let adequacy = match v.get("adequacy").and_then(|a| a.get("verdict")).and_then(Value::as_str) {
+            Some("adequate") => AdequacyVerdict::Adequate,
+            Some("inadequate") => AdequacyVerdict::Inadequate,
+            _ => AdequacyVerdict::Untestable,
+        };
         let loading: LoadingMode = field(&v, &["loading"])?
             .as_str()
             .unwrap_or_default()
@@ -194,47 +242,55 @@ impl Rebuilt {
                 notes.push(format!("candidate `{cs}` left out: not a cause rsf knows"));
                 continue;
             };
-            let num = |k: &str| c.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
-            let at_bound: Vec<String> =
-                c.get("at_bound").and_then(|a| serde_json::from_value(a.clone()).ok()).unwrap_or_default();
-            let unresolved = c.get("unresolved").and_then(Value::as_str).map(str::to_string);
-            let m = CandidateScore {
-                cause,
-                extension: c.get("extension").and_then(Value::as_str).unwrap_or_default().to_string(),
-                delta_bic: num("delta_bic"),
-                delta_aic: num("delta_aic"),
-                excluded: excluded(&at_bound, unresolved.as_ref()),
-            };
-            match c.get("params").filter(|p| !p.is_null()) {
-                Some(p) if m.excluded.is_none() && m.delta_bic.is_finite() => {
-                    let p = params(p, &format!("candidate {cs}"))?;
-                    // the variant (the other law or the mixture) whose laws the parameters name
-                    let opts = cause_variants(cause, &base_opts, &base_law)
-                        .into_iter()
-                        .map(|(_, o)| o)
-                        .find(|o| o.laws.iter().map(|l| l.name()).eq(p.laws.iter().cloned()));
-                    match opts {
-                        Some(o) => todo.push((candidates.len(), p, o)),
-                        None => {
-                            notes.push(format!("{cs} left out: its laws {} are none of its variants", p.laws.join("+")))
+            let alternatives = c.get("alternatives").and_then(Value::as_array).cloned().unwrap_or_default();
+            for (k, c) in std::iter::once(c).chain(alternatives.iter()).enumerate() {
+                let num = |k: &str| c.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+                let at_bound: Vec<String> =
+                    c.get("at_bound").and_then(|a| serde_json::from_value(a.clone()).ok()).unwrap_or_default();
+                let unresolved = c.get("unresolved").and_then(Value::as_str).map(str::to_string);
+                let laws: Vec<String> = c
+                    .get("params")
+                    .and_then(|p| p.get("laws"))
+                    .and_then(|l| serde_json::from_value(l.clone()).ok())
+                    .unwrap_or_default();
+                let m = CandidateScore {
+                    name: if k == 0 { cs.to_string() } else { alternative_name(cause, &laws) },
+                    cause,
+                    converged: c.get("converged").and_then(Value::as_bool).unwrap_or(true),
+                    extension: c.get("extension").and_then(Value::as_str).unwrap_or_default().to_string(),
+                    delta_bic: num("delta_bic"),
+                    delta_aic: num("delta_aic"),
+                    excluded: excluded(&at_bound, unresolved.as_ref()),
+                };
+                match c.get("params").filter(|p| !p.is_null()) {
+                    Some(p) if m.excluded.is_none() && m.delta_bic.is_finite() => {
+                        let p = params(p, &format!("candidate {}", m.name))?;
+                        // the variant (the other law or the mixture) whose laws the parameters name
+                        let opts = cause_variants(cause, &base_opts, &base_law)
+                            .into_iter()
+                            .map(|(_, o)| o)
+                            .find(|o| o.laws.iter().map(|l| l.name()).eq(p.laws.iter().cloned()));
+                        match opts {
+                            Some(o) => todo.push((candidates.len(), p, o)),
+                            None => notes
+                                .push(format!("{cs} left out: its laws {} are none of its variants", p.laws.join("+"))),
                         }
                     }
+                    None if m.excluded.is_none() && m.delta_bic.is_finite() => notes
+                        .push(format!("{cs} left out: the JSON holds no parameters for it (written by an older rsf?)")),
+                    _ => {}
                 }
-                None if m.excluded.is_none() && m.delta_bic.is_finite() => {
-                    notes.push(format!("{cs} left out: the JSON holds no parameters for it (written by an older rsf?)"))
-                }
-                _ => {}
+                candidates.push(RebuiltModel { score: m, fit: None });
             }
-            candidates.push(RebuiltModel { score: m, fit: None });
         }
         let fits = par_map(&todo, dopts.threads, |(_, p, o)| refit(&clean, &csegs, o, p).map(|f| (f, o.clone())));
         for ((i, _, _), r) in todo.iter().zip(fits) {
             match r {
                 Ok(f) => candidates[*i].fit = Some(f),
-                Err(e) => notes.push(format!("{} left out: its refit failed: {e}", candidates[*i].score.cause)),
+                Err(e) => notes.push(format!("{} left out: its refit failed: {e}", candidates[*i].score.name)),
             }
         }
-        Ok(Rebuilt { cause, loading, baseline, baseline_options: base_opts, candidates, notes })
+        Ok(Rebuilt { cause, adequacy, loading, baseline, baseline_options: base_opts, candidates, notes })
     }
 
     /// Its basis for [`super::design_basis`].
@@ -244,6 +300,7 @@ impl Rebuilt {
             loading: self.loading,
             baseline: &self.baseline,
             baseline_options: &self.baseline_options,
+            adequacy: self.adequacy,
             candidates: self
                 .candidates
                 .iter()

@@ -58,6 +58,33 @@ impl Whitened {
     }
 }
 
+/// The information a proposal adds on a subset of one model's parameters (D-optimality on the
+/// effect's parameters): with B the whitened J L and L the covariance's square root, the
+/// posterior covariance after the new data is C' = L (I + BᵀB)⁻¹ Lᵀ against C = L Lᵀ now.
+/// Returns each parameter's standard error now and expected after (θ scale), and the gain
+/// ½ ln(det C_E / det C'_E) in nats over the subset E; `None` when C_E is singular.
+pub(super) fn information_gain(
+    model: &Whitened,
+    sqrt_cov: &DMatrix<f64>,
+    subset: &[usize],
+) -> Option<(Vec<(f64, f64)>, f64)> {
+    let m = sqrt_cov.nrows();
+    let inner = match &model.chol {
+        Some(ch) => ch.inverse(),
+        None => DMatrix::identity(m, m),
+    };
+    let now = sqrt_cov * sqrt_cov.transpose();
+    let after = sqrt_cov * inner * sqrt_cov.transpose();
+    let pick = |c: &DMatrix<f64>| DMatrix::from_fn(subset.len(), subset.len(), |i, j| c[(subset[i], subset[j])]);
+    let (cn, ca) = (pick(&now), pick(&after));
+    let (dn, da) = (cn.determinant(), ca.determinant());
+    if !(dn > 0.0 && da > 0.0) {
+        return None;
+    }
+    let sds = subset.iter().map(|&k| (now[(k, k)].max(0.0).sqrt(), after[(k, k)].max(0.0).sqrt())).collect();
+    Some((sds, 0.5 * (dn.ln() - da.ln())))
+}
+
 /// Δ_ij: the expected lack of fit of `rival` when `truth` is true, averaged over the truth's
 /// draws (its fitted parameters when it has none).
 pub(super) fn expected_lack_of_fit(truth: &Whitened, rival: &Whitened) -> f64 {
@@ -90,6 +117,21 @@ mod tests {
         let want: f64 = d.iter().map(|x| x * x / 1e-8).sum();
         let got = expected_lack_of_fit(&truth, &rival);
         assert!((got / want - 1.0).abs() < 1e-9, "{got} {want}");
+    }
+
+    /// One parameter measured by n samples of white noise σ with unit sensitivity: its variance
+    /// goes from s² to 1/(1/s² + n/σ²), and the gain is half the log of the ratio.
+    #[test]
+    fn information_gain_is_the_posterior_shrinkage() {
+        let n = 30;
+        let (noise, t, c) = white(n);
+        let s = 1e-4;
+        let w = Whitened::new(&noise, &t, &c, vec![0.0; n], &vec![1.0; n], &DMatrix::from_element(1, 1, s), vec![]);
+        let (sds, gain) = information_gain(&w, &DMatrix::from_element(1, 1, s), &[0]).unwrap();
+        let after = (1.0 / (1.0 / (s * s) + n as f64 / 1e-8)).sqrt();
+        assert!((sds[0].0 / s - 1.0).abs() < 1e-12);
+        assert!((sds[0].1 / after - 1.0).abs() < 1e-9, "{} {after}", sds[0].1);
+        assert!((gain - (s / after).ln()).abs() < 1e-9);
     }
 
     #[test]

@@ -23,7 +23,14 @@
 //! 4. The stick-slip screen: a proposal in which a model, at its fit or a draw, slips faster
 //!    than [`STICK_SLIP_FACTOR`] × the fastest load point (in a step or a hold) ranks last.
 //! 5. The ranking: by score, near-ties (within [`SCORE_TIE`] pairs) to the shorter machine
-//!    time.
+//!    time. The score adds, once a cause with parameters of its own is named, how much the
+//!    proposal shrinks their uncertainty (D_s-optimality, at most one pair: [`EFFECT_HALVING`]).
+//! 6. The yardsticks ([`standard`]): the lab's standard segments of the best proposal's machine
+//!    time within the same limits, scored the same way.
+//!
+//! When the adequacy test says the model named does not explain the record, every candidate
+//! and every other law the diagnosis fitted is a rival (`models.rs`): the design proposes what
+//! tells them apart instead of stopping at one credible model.
 //!
 //! Σ is the noise model fitted to the best credible model's residuals (white, AR(1) and drift
 //! in time), applied by a Kalman filter at the new sample times; the covariances are the fits',
@@ -32,6 +39,7 @@
 //! | file | what |
 //! |---|---|
 //! | `space.rs` | proposals: primitives, sequences, sampling plan, constraints |
+//! | `standard.rs` | the lab's standard segments a design is compared with |
 //! | `criterion.rs` | the expected discrimination of one proposal between the models |
 //! | `basis.rs` | what a design starts from: a diagnosis, or its JSON rebuilt ([`Rebuilt`]) |
 //! | `models.rs` | the credible models, their covariances and draws |
@@ -46,12 +54,14 @@ mod protocol;
 mod result;
 mod run;
 pub mod space;
+pub mod standard;
 
 pub use basis::{Basis, BasisModel, CandidateScore, REBUILD_LNL_TOLERANCE, Rebuilt};
 pub use protocol::protocol_toml;
-pub use result::{Design, DesignModel, PairScore, PredictedCurve, Ranked};
+pub use result::{Design, DesignModel, EffectGain, EffectStderr, PairScore, PredictedCurve, Ranked};
 pub use run::{design, design_basis, design_from, design_from_json};
 pub use space::{Primitive, Proposal};
+pub use standard::StandardKind;
 
 /// A pair of models is settled by a proposal when its expected Δχ² reaches about this: the
 /// 2Δln L an extension of two parameters needs for ΔBIC −10 at n ≈ 10⁵ samples
@@ -62,6 +72,15 @@ pub const SETTLE_DCHI2: f64 = 40.0;
 /// one pair settled is no difference worth more machine time, while a relative tie (1 % of a
 /// score of 15 pairs is 0.15 pair) let proposals that leave a pair a sixth unsettled win on time.
 pub const SCORE_TIE: f64 = 0.05;
+
+/// The effect term of the score: a proposal that halves every standard error of the named
+/// effect's parameters (a gain of ln 2 nats per parameter) counts 1 − e⁻¹ = 0.63 of a pair
+/// settled, and the term never exceeds one pair. The score counts the questions a segment
+/// answers; "how large is the effect" is one more question once its cause is credible, worth
+/// at most as much as telling one pair of models apart, so that telling causes apart still
+/// leads while they are open, and measuring the effect decides between proposals that settle
+/// the same pairs (or when one credible model is left).
+pub const EFFECT_HALVING: f64 = std::f64::consts::LN_2;
 
 /// Default ΔBIC window of the credible models: ΔBIC −10 is decisive ([`rsf_diagnose::DECISIVE`]);
 /// a model within that of the best is not decided against.

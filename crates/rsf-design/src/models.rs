@@ -9,7 +9,7 @@ use nalgebra::DMatrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use rsf_diagnose::{Cause, noisy};
+use rsf_diagnose::{AdequacyVerdict, Cause, noisy};
 use rsf_fit::data::Record;
 use rsf_fit::fit::{FitError, FitOptions, FitResult, ParamMap, Prepared, parameter_map, prepare};
 use rsf_fit::segment::Segment;
@@ -40,8 +40,16 @@ pub(super) struct Source {
 
 /// The credible models, best first: the model of the diagnosis's cause (the baseline for
 /// `none`: a candidate that scores better but failed a check is not yet the answer), and each
-/// candidate with a fit, no parameter at a bound, an effect the record resolves, and a ΔBIC
-/// within the window of the best, its Occam penalty not counted.
+/// candidate with a converged fit, no parameter at a bound, an effect the record resolves, and
+/// a ΔBIC within the window of the best, its Occam penalty not counted. The other ways of the
+/// cause named (the registry's other laws, the mixtures) are candidates too, and while the
+/// model named is in doubt (its adequacy untested or failed) those of every cause.
+///
+/// The window assumes that the best model explains the record. When the adequacy test says it
+/// does not (or the diagnosis is `unexplained`), a ΔBIC between wrong models decides nothing:
+/// every candidate and law that passes the checks is kept as a rival, so that the design
+/// proposes what tells them (and the remainder) apart. When the best model could not be tested,
+/// it is not taken as the only credible one either: the next best is kept as its rival.
 pub(super) fn credible<'a>(
     d: &Basis<'a>,
     base_opts: &FitOptions,
@@ -65,28 +73,54 @@ pub(super) fn credible<'a>(
         0.0,
     )];
     let ln_n = (d.baseline.n.max(3) as f64).ln();
+    // the other ways of the cause named (another law, a mixture) are rivals: the law is part
+    // of the answer; those of the other causes only while the model named is in doubt (when it
+    // explains the record, the design tells the causes apart)
+    let in_doubt = d.adequacy != AdequacyVerdict::Adequate || d.cause == Cause::Unexplained;
     for bm in &d.candidates {
         let c = &bm.score;
+        if !in_doubt && c.name != c.cause.as_str() && c.cause != d.cause {
+            continue;
+        }
         if let Some(why) = &c.excluded {
-            notes.push(format!("{} left out: {why}", c.cause));
+            notes.push(format!("{} left out: {why}", c.name));
             continue;
         }
         let Some((f, oc)) = bm.fit else { continue };
+        if !c.converged {
+            notes.push(format!("{} left out: its fit did not converge", c.name));
+            continue;
+        }
         // the parameters it adds, from the two criteria: ΔBIC − ΔAIC = Δk (ln n − 2)
         let dk = ((c.delta_bic - c.delta_aic) / (ln_n - 2.0)).max(0.0);
-        all.push((entry(c.cause.as_str().into(), c.cause, c.extension.clone(), c.delta_bic, f), f, oc.clone(), dk));
+        all.push((entry(c.name.clone(), c.cause, c.extension.clone(), c.delta_bic, f), f, oc.clone(), dk));
     }
+    all.sort_by(|a, b| a.0.delta_bic.total_cmp(&b.0.delta_bic));
+    // the model named: the cause's own (not another way of it), the baseline for `none`
+    let named = |m: &DesignModel| m.cause == d.cause && (m.cause == Cause::None || m.name == d.cause.as_str());
+    let wrong = d.adequacy == AdequacyVerdict::Inadequate || d.cause == Cause::Unexplained;
     let best = all.iter().map(|m| m.0.delta_bic).fold(f64::INFINITY, f64::min);
     // within the window of the best, Occam's penalty for the parameters it adds not counted
     // against it: an extension that gains nothing (the effect where the record never went)
     // stays credible while the best is the baseline
-    let mut keep: Vec<(DesignModel, &FitResult, FitOptions)> = all
-        .into_iter()
-        .filter(|(m, _, _, dk)| m.cause == d.cause || m.delta_bic - best <= o.credible_dbic + dk * ln_n)
-        .map(|(m, f, oc, _)| (m, f, oc))
-        .collect();
-    keep.sort_by(|a, b| a.0.delta_bic.total_cmp(&b.0.delta_bic));
-    keep
+    let within = |m: &DesignModel, dk: f64| named(m) || m.delta_bic - best <= o.credible_dbic + dk * ln_n;
+    let mut keep: Vec<bool> = all.iter().map(|(m, _, _, dk)| wrong || within(m, *dk)).collect();
+    if wrong {
+        notes.push(format!(
+            "the model named does not explain the record (adequacy: {}): every candidate and law that fits is kept as a rival, {} models",
+            d.adequacy.as_str(),
+            all.len()
+        ));
+    } else if d.adequacy == AdequacyVerdict::Untestable && keep.iter().filter(|k| **k).count() < 2 {
+        if let Some(i) = keep.iter().position(|k| !k) {
+            keep[i] = true;
+            notes.push(format!(
+                "the model named could not be tested for adequacy: the next best, {} (ΔBIC {:.1}), is kept as its rival",
+                all[i].0.name, all[i].0.delta_bic
+            ));
+        }
+    }
+    all.into_iter().zip(keep).filter(|(_, k)| *k).map(|((m, f, oc, _), _)| (m, f, oc)).collect()
 }
 
 /// A fitted model's source: its covariance inflated by n/n_eff (correlated residuals carry

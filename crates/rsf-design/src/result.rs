@@ -1,6 +1,7 @@
 //! What a design returns.
 
 use super::space::Proposal;
+use super::standard::StandardKind;
 use rsf_diagnose::{Cause, NoiseModel};
 use rsf_fit::fit::Params;
 use serde::Serialize;
@@ -75,6 +76,42 @@ pub struct Ranked {
     /// (stick-slip: faster than [`super::STICK_SLIP_FACTOR`] × the fastest load point). Such
     /// proposals rank after all others.
     pub stick_slip: bool,
+    /// How much it is expected to measure the named effect (absent when the diagnosis named no
+    /// effect with parameters of its own).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub effect: Option<EffectGain>,
+    /// Which standard segment this is (absent for a design's own proposal).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub standard: Option<StandardKind>,
+}
+
+/// What a proposal is expected to do to the named effect's parameters (those its model adds to
+/// the baseline: Dc₂ and b₂, Vc, α, k, g, a law's own parameters).
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectGain {
+    /// The model whose effect it is.
+    pub model: String,
+    /// ½ ln(det C_E / det C'_E): the information the proposal adds on them, nats.
+    pub gain_nats: f64,
+    /// Its part of the score: 1 − exp(−(gain per parameter)/ln 2), so that halving every
+    /// standard error counts 0.63 of a pair settled ([`super::EFFECT_HALVING`]).
+    pub score: f64,
+    /// Each parameter with its standard error now and expected after the proposal.
+    pub parameters: Vec<EffectStderr>,
+}
+
+/// One effect parameter's uncertainty, in its own units (log-fitted parameters by the delta
+/// method: value × the standard error of its logarithm).
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectStderr {
+    /// The parameter (`dc2`, `vc1`, `alpha1`, …).
+    pub name: String,
+    /// Its fitted value.
+    pub value: f64,
+    /// Its standard error from the record (inflated for correlated noise, as the design uses it).
+    pub stderr_now: f64,
+    /// Its expected standard error once the proposal's data are added.
+    pub stderr_expected: f64,
 }
 
 /// A model's predicted friction through the best proposal.
@@ -107,9 +144,11 @@ pub struct Design {
     pub noise: NoiseModel,
     /// Every proposal scored, best first.
     pub proposals: Vec<Ranked>,
-    /// The standard segment of the best proposal's machine time (a one-decade step down and
-    /// back), scored the same way, for comparison.
+    /// The best-scoring of [`Self::standards`].
     pub standard: Option<Ranked>,
+    /// The standard segments of the best proposal's machine time within the same limits (a
+    /// hold and reslide, a decade down and back, a decade up and back), scored the same way.
+    pub standards: Vec<Ranked>,
     /// The models' predictions through the best proposal.
     pub curves: Vec<PredictedCurve>,
     /// What the design concludes, in words.

@@ -1,14 +1,15 @@
 //! The design itself: the credible models, the proposals scored in parallel, the ranking.
 
 use super::basis::{Basis, Rebuilt};
-use super::criterion::{Whitened, expected_lack_of_fit};
+use super::criterion::{Whitened, expected_lack_of_fit, information_gain};
 use super::models::{Credible, Source, credible, prepare_model, source, with_alpha};
-use super::result::{Design, PairScore, PredictedCurve, Ranked};
-use super::space::{Primitive, Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, singles, standard};
-use super::{DesignOptions, SCORE_TIE, SETTLE_DCHI2, STICK_SLIP_FACTOR};
+use super::result::{Design, EffectGain, EffectStderr, PairScore, PredictedCurve, Ranked};
+use super::space::{Primitive, Proposal, SEQUENCE_SEEDS, Sampling, sampling, sequences, singles};
+use super::standard::standards;
+use super::{DesignOptions, EFFECT_HALVING, SCORE_TIE, SETTLE_DCHI2, STICK_SLIP_FACTOR};
 use rsf_diagnose::{Cause, DiagnoseOptions, Diagnosis, NoiseModel, diagnose, noisy};
 use rsf_fit::data::Record;
-use rsf_fit::fit::{FitError, LoadingMode, predict, prepare, record_span};
+use rsf_fit::fit::{FitError, LoadingMode, parameter_map, predict, prepare, record_span};
 use rsf_fit::parallel::par_map;
 use rsf_fit::segment::Segment;
 use rsf_solvers::SolveError;
@@ -113,7 +114,24 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
     }
     let models: Vec<Credible> =
         sources.into_iter().enumerate().filter_map(|(i, s)| prepare_model(rec, segs, s, o, i as u64).ok()).collect();
-    if models.len() < 2 {
+    // the named effect's parameters: those its model adds to the baseline's
+    let base_free = parameter_map(&prepare(rec, segs, &base_opts)?, &base_opts)?.free_names();
+    let effect = models
+        .iter()
+        .position(|m| m.info.cause == d.cause && m.info.name == d.cause.as_str() && d.cause.is_candidate())
+        .map(|i| {
+            let subset: Vec<usize> = models[i]
+                .map
+                .free_names()
+                .iter()
+                .enumerate()
+                .filter(|(_, n)| !base_free.contains(n))
+                .map(|(k, _)| k)
+                .collect();
+            (i, subset)
+        })
+        .filter(|(_, subset)| !subset.is_empty());
+    if models.len() < 2 && effect.is_none() {
         let only = models.first().map_or("none".to_string(), |m| m.info.name.clone());
         return Ok(Design {
             cause: d.cause,
@@ -127,14 +145,26 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
             noise,
             proposals: vec![],
             standard: None,
+            standards: vec![],
             curves: vec![],
             notes,
         });
     }
     // the record's fastest load-point velocity, µm/s
     let v_fast = segs.iter().map(|s| s.v).fold(v_end, f64::max);
-    let ctx = Scorer { models: &models, v_fast, noise: &noise, dt_slide, dt_hold };
+    let ctx = Scorer { models: &models, v_fast, noise: &noise, dt_slide, dt_hold, effect: effect.as_ref() };
     let first = singles(v_end, dc_ref, o, sigma);
+    if first.is_empty() {
+        return Err(FitError::Setup(format!(
+            "no proposal fits the constraints (--max-time {} s, --max-hold {} s, --max-slip {} µm, --v-range {},{} µm/s; a segment lasts at least {} s)",
+            o.max_time,
+            o.max_hold,
+            o.max_slip,
+            o.v_range.0,
+            o.v_range.1,
+            super::space::MIN_SEGMENT_S
+        )));
+    }
     let seq_guess = if o.sequences { SEQUENCE_SEEDS * (SEQUENCE_SEEDS - 1) } else { 0 };
     let total = first.len() + seq_guess;
     let done = std::sync::atomic::AtomicUsize::new(0);
@@ -197,7 +227,13 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
     }
     let best = scored[0].proposal.clone();
     let curves = ctx.score(&best, v_end).map(|(_, c)| c).unwrap_or_default();
-    let standard = ctx.score(&standard(v_end, scored[0].machine_time_s, o.max_slip), v_end).map(|(r, _)| r);
+    let standards: Vec<Ranked> = standards(v_end, scored[0].machine_time_s, dc_ref, o)
+        .into_iter()
+        .filter_map(|(kind, p)| ctx.score(&p, v_end).map(|(r, _)| Ranked { standard: Some(kind), ..r }))
+        .collect();
+    // the best as the ranking orders them: one in which no model runs away, then the score
+    let standard =
+        standards.iter().max_by(|a, b| b.stick_slip.cmp(&a.stick_slip).then(a.score.total_cmp(&b.score))).cloned();
     let summary = summarize(&scored[0], standard.as_ref(), &models);
     Ok(Design {
         cause: d.cause,
@@ -208,6 +244,7 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
         noise,
         proposals: scored,
         standard,
+        standards,
         curves,
         summary,
         notes,
@@ -242,6 +279,8 @@ struct Scorer<'a> {
     noise: &'a NoiseModel,
     dt_slide: f64,
     dt_hold: f64,
+    /// The named effect's model and its parameters' places in that model's θ.
+    effect: Option<&'a (usize, Vec<usize>)>,
 }
 
 impl Scorer<'_> {
@@ -337,7 +376,35 @@ impl Scorer<'_> {
                 });
             }
         }
-        let score: f64 = pairs.iter().map(|p| 1.0 - (-p.dchi2 / SETTLE_DCHI2).exp()).sum();
+        let effect = self.effect.and_then(|(i, subset)| {
+            let m = &self.models[*i];
+            let (sds, gain_nats) = information_gain(&white[*i], &m.sqrt_cov, subset)?;
+            let parameters = subset
+                .iter()
+                .zip(sds)
+                .map(|(&k, (now, after))| {
+                    let names = m.map.free_names();
+                    // log-fitted: the value and its standard error by the delta method
+                    let (value, scale) =
+                        if m.map.is_log(k) { (m.theta[k].exp(), m.theta[k].exp()) } else { (m.theta[k], 1.0) };
+                    EffectStderr {
+                        name: names[k].clone(),
+                        value,
+                        stderr_now: now * scale,
+                        stderr_expected: after * scale,
+                    }
+                })
+                .collect();
+            let per = gain_nats.max(0.0) / subset.len() as f64;
+            Some(EffectGain {
+                model: m.info.name.clone(),
+                gain_nats,
+                score: 1.0 - (-per / EFFECT_HALVING).exp(),
+                parameters,
+            })
+        });
+        let score: f64 = pairs.iter().map(|p| 1.0 - (-p.dchi2 / SETTLE_DCHI2).exp()).sum::<f64>()
+            + effect.as_ref().map_or(0.0, |e| e.score);
         let t = prop.machine_time();
         Some((
             Ranked {
@@ -352,10 +419,12 @@ impl Scorer<'_> {
                 samples: s.samples,
                 score,
                 score_per_hour: score / (t / 3600.0).max(1e-12),
-                lead_pair_dchi2: pairs[0].dchi2,
+                lead_pair_dchi2: pairs.first().map_or(0.0, |p| p.dchi2),
                 pairs,
                 peak_slip_rate,
                 stick_slip,
+                effect,
+                standard: None,
             },
             curves,
         ))
@@ -386,7 +455,6 @@ fn rank(v: &mut Vec<Ranked>) {
 }
 
 fn summarize(best: &Ranked, standard: Option<&Ranked>, models: &[Credible]) -> String {
-    let lead = format!("{} vs {}", models[0].info.name, models[1].info.name);
     let mut s = String::new();
     if best.stick_slip {
         s += &format!(
@@ -394,18 +462,31 @@ fn summarize(best: &Ranked, standard: Option<&Ranked>, models: &[Credible]) -> S
             best.peak_slip_rate
         );
     }
-    s += &format!(
-        "next: {} ({:.2} h of machine time): expected to settle {:.1} of {} model pairs; {lead}: expected Δχ² {:.0}",
-        best.description,
-        best.machine_time_s / 3600.0,
-        best.score,
-        best.pairs.len(),
-        best.lead_pair_dchi2
-    );
+    s += &format!("next: {} ({:.2} h of machine time): ", best.description, best.machine_time_s / 3600.0);
+    let settled: f64 = best.pairs.iter().map(|p| 1.0 - (-p.dchi2 / SETTLE_DCHI2).exp()).sum();
+    if models.len() >= 2 {
+        s += &format!(
+            "expected to settle {settled:.1} of {} model pairs; {} vs {}: expected Δχ² {:.0}",
+            best.pairs.len(),
+            models[0].info.name,
+            models[1].info.name,
+            best.lead_pair_dchi2
+        );
+    } else {
+        s += &format!("one credible model ({}): the segment that best measures its effect", models[0].info.name);
+    }
+    if let Some(e) = &best.effect {
+        let each: Vec<String> = e
+            .parameters
+            .iter()
+            .map(|p| format!("{} {:.3e} ± {:.2e} → ± {:.2e}", p.name, p.value, p.stderr_now, p.stderr_expected))
+            .collect();
+        s += &format!("; the effect's standard errors expected: {}", each.join(", "));
+    }
     if let Some(st) = standard {
         s += &format!(
-            " (a one-decade step down and back of the same time: {:.1} pairs, Δχ² {:.0})",
-            st.score, st.lead_pair_dchi2
+            " (the best standard segment of the same time, {}: score {:.2} against {:.2})",
+            st.description, st.score, best.score
         );
     }
     s
@@ -432,6 +513,8 @@ mod tests {
             pairs: vec![],
             peak_slip_rate: 0.0,
             stick_slip: false,
+            effect: None,
+            standard: None,
         }
     }
 

@@ -225,7 +225,7 @@ impl Proposal {
         words.join("; then ")
     }
 
-    fn fits(&self, o: &DesignOptions) -> bool {
+    pub(crate) fn fits(&self, o: &DesignOptions) -> bool {
         let holds_ok = self.parts.iter().all(|p| match *p {
             Primitive::Hold { hold_s, .. } => hold_s <= o.max_hold * (1.0 + 1e-9),
             Primitive::Step { .. } | Primitive::NormalStress { .. } => true,
@@ -324,17 +324,6 @@ pub fn sequences(best: &[Proposal], o: &DesignOptions) -> Vec<Proposal> {
         }
     }
     out
-}
-
-/// The standard next segment of a lab of `machine_time` s: a one-decade step down from `v_end`
-/// and back, half the time each (the comparison of the design study), shortened to `max_slip`
-/// µm of displacement when the time would slide further.
-pub fn standard(v_end: f64, machine_time: f64, max_slip: f64) -> Proposal {
-    let v1 = v_end / 10.0;
-    let half = (machine_time / 2.0).min(max_slip / (v1 + v_end));
-    Proposal {
-        parts: vec![Primitive::Step { v: v1, slip: v1 * half }, Primitive::Step { v: v_end, slip: v_end * half }],
-    }
 }
 
 /// The samples a proposal would record and the points it is predicted at.
@@ -461,15 +450,5 @@ mod tests {
         assert!(s.times.windows(2).all(|w| w[1] > w[0]));
         assert!((s.times.last().unwrap() - 1050.0).abs() < 1e-9);
         assert!(s.times.len() <= 2 * POINTS_PER_SEGMENT && s.times.len() > POINTS_PER_SEGMENT);
-    }
-
-    #[test]
-    fn the_standard_segment_has_the_time_asked() {
-        let p = standard(3.0, 600.0, 1e4);
-        assert!((p.machine_time() - 600.0).abs() < 1e-9);
-        assert_eq!(p.segments()[0].0, 0.3);
-        // 600 s would slide 990 µm: shortened to 500
-        let q = standard(3.0, 600.0, 500.0);
-        assert!((q.slip() - 500.0).abs() < 1e-9 && q.machine_time() < 600.0);
     }
 }

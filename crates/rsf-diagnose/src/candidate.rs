@@ -7,7 +7,7 @@ use super::evidence::{Noisy, noisy, scores};
 use super::heldout::heldout;
 use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::starts::fit_from;
-use super::{Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_SIGMAS, Secondary};
+use super::{Alternative, Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_SIGMAS, Secondary};
 use rsf_fit::data::Record;
 use rsf_fit::fit::{Budget, FitOptions, FitResult, ParamName, Params, Prepared, fit, prepare};
 use rsf_fit::parallel::par_map;
@@ -36,6 +36,8 @@ pub(super) struct FullFit {
     /// Other one-law ways of the cause that explain the record as well (see
     /// [`Candidate::equally_good_laws`]).
     pub(super) alike: Vec<String>,
+    /// The cause's other ways, fitted the same way (see [`Candidate::alternatives`]).
+    pub(super) others: Vec<Alternative>,
 }
 
 /// A free stiffness fitted from the nominal k that stays above this fraction of it has not
@@ -128,7 +130,7 @@ impl Ctx<'_> {
         bn: &Noisy,
         threads: usize,
         only: Option<&str>,
-    ) -> Option<(String, FitOptions, Prepared, FitResult, Noisy, Vec<String>)> {
+    ) -> Option<FullFit> {
         let mut single: Option<Params> = None;
         let mut fitted = vec![];
         for (ext, o) in self.variants(cause) {
@@ -173,8 +175,16 @@ impl Ctx<'_> {
                 .collect(),
             None => vec![],
         };
-        let (_, (ext, o, pc, f, en)) = fitted.swap_remove(best);
-        Some((ext, o, pc, f, en, alike))
+        let (_, (extension, o, _, f, nf)) = fitted.swap_remove(best);
+        // the other ways, in the order fitted, each scored against the baseline
+        let others = fitted
+            .into_iter()
+            .map(|(_, (extension, options, _, fit, nf))| {
+                let (delta_bic, delta_aic) = scores(base, bn, &fit, &nf);
+                Alternative { extension, delta_bic, delta_aic, converged: fit.converged, fit, options }
+            })
+            .collect();
+        Some(FullFit { extension, o, f, nf, alike, others })
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -204,9 +214,7 @@ impl Ctx<'_> {
     /// The extension `cause` fitted to the whole record from the baseline optimum: its best way.
     pub(super) fn full_fit(&self, cause: Cause) -> Option<FullFit> {
         let pc_of = |o: &FitOptions| prepare(self.rec, self.segs, o).ok();
-        let (extension, o, _, f, nf, alike) =
-            self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads, None)?;
-        Some(FullFit { extension, o, f, nf, alike })
+        self.fit_cause(&pc_of, cause, &self.base.params, &self.base, &self.base_noise, self.opts.threads, None)
     }
 
     /// The held-out test of the extension `o`: its training fit, from the baseline's training
@@ -231,7 +239,7 @@ impl Ctx<'_> {
 
     /// The candidate `cause` from its fit on the whole record and its held-out test.
     pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
-        let FullFit { extension, o, f, nf, alike } = full;
+        let FullFit { extension, o, f, nf, alike, others } = full;
         let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
@@ -254,6 +262,7 @@ impl Ctx<'_> {
             drift_share_after: nf.model.drift_share,
             effect: effect_of(&[cause], &f),
             equally_good_laws: alike,
+            alternatives: others,
             adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
@@ -354,8 +363,8 @@ impl Ctx<'_> {
             let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
             // the classic ways and the way the record chose: a null replicate of every law of
             // the library would cost three more fits of the evolution law per replicate
-            let (_, _, _, fc, nc, _) = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
-            Some(gain(&fb, &nb, &fc, &nc))
+            let fc = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
+            Some(gain(&fb, &nb, &fc.f, &fc.nf))
         };
         let seeds: Vec<u64> =
             (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();

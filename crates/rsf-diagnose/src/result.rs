@@ -84,6 +84,11 @@ pub struct Candidate {
     /// (e.g. PRZ and power-law aging at n = 2 with Dc doubled, which are the same model).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub equally_good_laws: Vec<String>,
+    /// The cause's other ways (the evolution law's other laws of the registry and mixtures),
+    /// each fitted like the one chosen and scored against the baseline: the rivals a design
+    /// keeps when the model named does not explain the record (`rsf design`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub alternatives: Vec<Alternative>,
     /// The adequacy test's excess for this extension's fit (1: its event windows look like
     /// noise; `diagnose/adequacy.rs`); NaN where untestable.
     pub adequacy_excess: f64,
@@ -114,6 +119,29 @@ pub struct Candidate {
     /// The options it was fitted with (the base of combinations).
     #[serde(skip)]
     pub options: Option<FitOptions>,
+}
+
+/// Another way of a candidate's cause (another law, or a mixture), fitted the same way.
+#[derive(Clone, Debug, Serialize)]
+pub struct Alternative {
+    /// What was changed.
+    pub extension: String,
+    /// ΔBIC with n_eff against the baseline.
+    pub delta_bic: f64,
+    /// ΔAIC with n_eff against the baseline.
+    pub delta_aic: f64,
+    /// Whether its fit reached an optimum.
+    pub converged: bool,
+    /// The fit; in JSON its parameters, `params`.
+    #[serde(rename = "params", serialize_with = "params_of_fit")]
+    pub fit: FitResult,
+    /// The options it was fitted with.
+    #[serde(skip)]
+    pub options: FitOptions,
+}
+
+fn params_of_fit<S: serde::Serializer>(fit: &FitResult, s: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&fit.params, s)
 }
 
 /// A candidate's fit in JSON: its parameters.

@@ -41,6 +41,10 @@ def test_design_equals_the_cli_and_gives_a_dataframe():
         assert len(py["models"]) >= 2 and py["proposals"]
         assert [r["description"] for r in py["proposals"][:5]] == [r["description"] for r in ref["proposals"][:5]]
         assert py["proposals"][0]["score"] == pytest.approx(ref["proposals"][0]["score"], rel=1e-9)
+        # the three standard segments of the same machine time, the best of them as `standard`
+        kinds = [s["standard"] for s in py["standards"]]
+        assert kinds == [s["standard"] for s in ref["standards"]] and "hold_reslide" in kinds
+        assert py["standard"] in py["standards"]
         assert py.protocol.startswith("# rsf design: proposal 1")
         out = os.path.join(d, "next.toml")
         py.write_protocol(out)
@@ -49,6 +53,7 @@ def test_design_equals_the_cli_and_gives_a_dataframe():
     df = py.to_pandas()
     assert isinstance(df, pd.DataFrame) and list(df["rank"][:3]) == [1, 2, 3]
     assert any(c.startswith("dchi2:") for c in df.columns)
+    assert (df["effect_score"] >= 0).all()
     # the stick-slip screen: a peak slip rate per proposal, and those that run away rank last
     assert (df["peak_slip_rate"] > 0).all()
     flags = list(df["stick_slip"])

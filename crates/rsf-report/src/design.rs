@@ -104,7 +104,7 @@ pub fn design_html(d: &Design, name: &str) -> String {
                 )
             })
             .collect();
-        if let Some(s) = &d.standard {
+        for s in &d.standards {
             rows.push((
                 "second".into(),
                 vec![

@@ -325,8 +325,12 @@ class Diagnosis(_AttrDict):
 
 class Design(_AttrDict):
     """A design: the dict of ``rsf design --json`` (``summary``, ``models``, ``proposals`` best
-    first, ``standard``, ``curves``, ``noise``, ``notes``); ``to_pandas()`` gives the ranking as
-    a DataFrame, ``protocol`` the best proposal as ``rsf simulate`` TOML."""
+    first, each with its ``effect`` — the named effect's parameters with their standard errors
+    now and expected after it — when the cause has parameters of its own; ``standards``, the
+    lab's standard segments of the best proposal's machine time within the same limits (a hold
+    and reslide, a decade down and back, a decade up and back), and ``standard``, the best of
+    them; ``curves``, ``noise``, ``notes``); ``to_pandas()`` gives the ranking as a DataFrame,
+    ``protocol`` the best proposal as ``rsf simulate`` TOML."""
 
     def __init__(self, raw: Mapping[str, Any], html: str, protocol: str):
         super().__init__(raw)
@@ -337,14 +341,16 @@ class Design(_AttrDict):
         """The ranking as a pandas DataFrame, one row per proposal, best first: ``rank``,
         ``kind``, ``description``, ``machine_time_s``, ``slip_um``, ``samples``, ``score``,
         ``score_per_hour``, ``lead_pair_dchi2``, ``peak_slip_rate`` (µm/s, the fastest a credible
-        model slips in it), ``stick_slip`` (a model runs away in it: ranked last) and one
-        ``dchi2:A|B`` column per model pair."""
+        model slips in it), ``stick_slip`` (a model runs away in it: ranked last),
+        ``effect_score`` (the part of the score for measuring the named effect; 0 without one)
+        and one ``dchi2:A|B`` column per model pair."""
         import pandas as pd  # optional dependency
         rows = []
         for r in self["proposals"]:
             row = {k: r[k] for k in ("rank", "kind", "description", "machine_time_s", "slip_um", "samples",
                                      "score", "score_per_hour", "lead_pair_dchi2", "peak_slip_rate",
                                      "stick_slip")}
+            row["effect_score"] = (r.get("effect") or {}).get("score", 0.0)
             row.update({f"dchi2:{p['a']}|{p['b']}": p["dchi2"] for p in r["pairs"]})
             rows.append(row)
         return pd.DataFrame(rows)
