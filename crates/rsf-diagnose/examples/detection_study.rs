@@ -132,6 +132,28 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
                     })))
                     .collect::<Vec<_>>()
             );
+            // every candidate: its score, held-out prediction and why it was set aside
+            r["baseline_rms"] = json!(d.baseline.rms);
+            r["noise_sigma"] = m["noise_sigma"].clone();
+            r["candidates"] = json!(
+                d.candidates
+                    .iter()
+                    .map(|c| json!({
+                        "cause": c.cause.as_str(),
+                        "law": c.effect.law,
+                        "dbic": c.delta_bic,
+                        "heldout_before": c.heldout_rms_before,
+                        "heldout_after": c.heldout_rms_after,
+                        "heldout_uninformative": c.heldout_uninformative,
+                        "converged": c.converged,
+                        "at_bound": c.at_bound,
+                        "unresolved": c.unresolved,
+                        "drift_share_after": c.drift_share_after,
+                        "rms": c.fit.as_ref().map(|f| f.rms),
+                        "adequacy_excess": c.adequacy_excess,
+                    }))
+                    .collect::<Vec<_>>()
+            );
             r["false_alarm_probability"] = json!(
                 d.candidates
                     .iter()

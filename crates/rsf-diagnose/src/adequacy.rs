@@ -16,9 +16,12 @@
 //! event's time, which a noisy load point leaves uncertain by a fraction of a second and whose
 //! misfit is locked to the event without being physics. Each placebo takes out the same shape at
 //! the same times since its start, so event and placebos lose the same freedom. The window's
-//! mean is left out, so a slow drift's offset does not count; the bin means are unweighted, so
-//! a densely sampled window (after a step) is no noisier than a sparse placebo (conservative
-//! for a variably sampled record). T = Σ_w Q_w over the event windows.
+//! mean is left out, so a slow drift's offset does not count. Event and placebos are made
+//! alike in what the noise does to them: each placebo starts at the event's sampling phase (a
+//! break the lab logged as a sample puts one sample at a window's start), and a window of fewer
+//! than [`MIN_WINDOW_SAMPLES`] is not used. The bin means are unweighted, so a window sampled
+//! densely after its event is no noisier than a sparse placebo (conservative for a variably
+//! sampled record). T = Σ_w Q_w over the event windows.
 //!
 //! **Null.** Each event window's placebos: disjoint windows of the same length tiling the quiet
 //! stretches of sliding (after each segment's own transient), at least [`MIN_PLACEBOS`] of
@@ -74,6 +77,13 @@ const BIN_EDGES: [f64; 8] =
     [0.0, 1e-3, 3.162_277_660_168_379_5e-3, 1e-2, 3.162_277_660_168_379_5e-2, 1e-1, 3.162_277_660_168_379_5e-1, 1.0];
 /// A window whose samples fill fewer than this many bins is left out (its shape unseen).
 const MIN_BINS: usize = 3;
+/// A window of fewer samples is left out: sampled at a tenth of its length or coarser, its
+/// transient's first part — where the event's timing matters most and the model changes
+/// fastest — rests on one or two samples, whose misfit to a break read a fraction of a sample
+/// late is far from linear in the shift and is not taken out with it. (A step to 300 µm/s
+/// logged at 10 Hz, a window of 0.43 s, and a step to 3 µm/s logged at 1 Hz, 5.9 s: each
+/// made a record whose model is its truth look inadequate.)
+pub const MIN_WINDOW_SAMPLES: usize = 10;
 
 /// The outcome of the adequacy test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -177,12 +187,13 @@ impl Adequacy {
 fn window_q(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) -> Option<f64> {
     let i0 = time.partition_point(|&t| t < t0);
     let i1 = time.partition_point(|&t| t < t0 + len);
-    if i1 <= i0 {
+    let used = i0..i1;
+    if used.len() < MIN_WINDOW_SAMPLES {
         return None;
     }
     // bin sums of the residuals and of the shape
     let mut sums = [(0.0f64, 0.0f64, 0usize); BIN_EDGES.len() - 1];
-    for i in i0..i1 {
+    for i in used {
         let u = (time[i] - t0) / len;
         let b = BIN_EDGES[1..].partition_point(|&e| e <= u).min(sums.len() - 1);
         sums[b].0 += res[i];
@@ -261,11 +272,11 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
     // an event window's placebos: disjoint windows of its length tiling the quiet stretches
     // (disjoint, so that each is a comparison of its own), at most PLACEBOS of them spread
     // evenly over all the tiles
-    let tiles = |len: f64| -> Vec<f64> {
+    let tiles = |len: f64| -> Vec<(f64, f64)> {
         let mut starts = vec![];
         for &(a, b) in &quiet {
             let n = ((b - a) / len).floor() as usize;
-            starts.extend((0..n).map(|i| a + i as f64 * len));
+            starts.extend((0..n).map(|i| (a + i as f64 * len, b)));
         }
         if starts.len() > PLACEBOS {
             let n = starts.len();
@@ -277,8 +288,22 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
     for &(j, t0, len, what) in &events {
         let shape = event_shape(time, &rate, t0, len);
         let Some(q) = window_q(time, &res, &shape, t0, len) else { continue };
-        let placebo: Vec<f64> =
-            tiles(len).into_iter().filter_map(|s| window_q(time, &res, &shape, s, len)).filter(|q| *q > 0.0).collect();
+        // each placebo starts at the event window's sampling phase: as far before a sample as
+        // the event is before its first (0 where the break is a sample, as a lab's logged
+        // change of velocity is). A placebo placed between samples would lack the single-sample
+        // bin at its start that the event window has, and the noise alone would then make the
+        // event windows look worse.
+        let phase = time.get(time.partition_point(|&t| t < t0)).map_or(0.0, |&t| t - t0);
+        let placebo: Vec<f64> = tiles(len)
+            .into_iter()
+            .filter_map(|(s, end)| {
+                let first = *time.get(time.partition_point(|&t| t < s + phase))?;
+                let start = first - phase;
+                (start + len <= end).then_some(start)
+            })
+            .filter_map(|s| window_q(time, &res, &shape, s, len))
+            .filter(|q| *q > 0.0)
+            .collect();
         if placebo.len() >= MIN_PLACEBOS && q > 0.0 {
             tested.push((j, t0, what, len, q, placebo));
         }

@@ -1,8 +1,9 @@
 //! The decision: which decisive candidate is credible, the verdict in words, and the start of a
 //! combination from two optima.
 
+use super::adequacy::{Adequacy, AdequacyVerdict};
 use super::cause::{Cause, Effect};
-use super::{Candidate, DECISIVE, Gain, Secondary};
+use super::{Candidate, DECISIVE, Disagreement, Gain, Secondary};
 use rsf_fit::fit::{FitResult, Params};
 
 /// A candidate the held-out test cannot judge, or whose null replicates cannot calibrate it
@@ -90,6 +91,50 @@ pub(super) fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
     }
 }
 
+/// Without an adequacy test, the one check left on the model named is that the record's parts
+/// agree about it: a candidate that scores better than the chosen one on the whole record but
+/// predicts the held-out part worse than the baseline (or cannot be fitted to the training
+/// part) contradicts it — one model fits the whole better, the other predicts the unseen part
+/// better, and a model that explained the record would do both. Such a record gets no cause
+/// named. (A candidate the held-out test cannot judge, `heldout_uninformative`, is no
+/// contradiction.) In the `--outside` study every untestable record named a wrong cause this way
+/// (a cut-off chosen after the evolution law's better score was set aside on its held-out
+/// prediction), and no untestable record of the 111-record set with a right cause.
+fn disagreement(chosen: &Candidate, candidates: &[Candidate]) -> Option<Disagreement> {
+    candidates
+        .iter()
+        .filter(|o| o.cause != chosen.cause && o.delta_bic < chosen.delta_bic && o.delta_bic < DECISIVE)
+        .find(|o| !o.heldout_uninformative && !heldout_ok(o.heldout_rms_before, o.heldout_rms_after))
+        .map(|o| Disagreement {
+            better: o.cause,
+            extension: o.extension.clone(),
+            delta_bic: o.delta_bic,
+            heldout_rms_before: o.heldout_rms_before,
+            heldout_rms_after: o.heldout_rms_after,
+        })
+}
+
+/// The words of a [`Disagreement`] with the chosen candidate `c`.
+fn disagreement_words(d: &Disagreement, c: &Candidate) -> String {
+    let held_out = match (d.heldout_rms_before, d.heldout_rms_after) {
+        (Some(b), Some(a)) => format!("predicts the held-out part worse than the baseline (rms {b:.2e} → {a:.2e})"),
+        _ => "cannot be fitted to the held-out test's training part".into(),
+    };
+    format!(
+        "{} scores better on the whole record (ΔBIC {:.1}) but {held_out}, while {} (ΔBIC {:.1}) predicts it{}; \
+         a model that explained the record would do both, and the record's adequacy cannot be tested, so no \
+         cause is named",
+        d.extension,
+        d.delta_bic,
+        c.extension,
+        c.delta_bic,
+        match (c.heldout_rms_before, c.heldout_rms_after) {
+            (Some(b), Some(a)) => format!(" (rms {b:.2e} → {a:.2e})"),
+            _ => String::new(),
+        }
+    )
+}
+
 /// The start of a combination: the parameters `p1` of the first extension's fit, with the
 /// parameters that the extension `cause2` adds taken from its own fit `p2`.
 pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
@@ -126,6 +171,66 @@ pub(super) struct Verdict {
     pub effect: Effect,
     /// ΔBIC of the chosen extension, or of the best candidate for `none`.
     pub confidence: f64,
+    /// For `unexplained`: the best partial extension.
+    pub partial: Option<Cause>,
+    /// For `unexplained` on an untestable record: the parts' disagreement.
+    pub disagreement: Option<Disagreement>,
+}
+
+/// The verdict after the adequacy test of the model it names: unchanged when the model explains
+/// the events to the noise level; `unexplained` with the best partial extension when it does
+/// not, or when the test cannot run and the record's parts disagree ([`disagreement`]).
+pub(super) fn judge_adequacy(
+    v: &mut Verdict,
+    adequacy: &Adequacy,
+    chosen: Option<&Candidate>,
+    decisive: &[&Candidate],
+    candidates: &[Candidate],
+) {
+    let reason = std::mem::take(&mut v.reason);
+    v.reason = match adequacy.verdict {
+        AdequacyVerdict::Inadequate => {
+            // the best partial extension: the one named, else the best decisive candidate
+            let best = chosen.or_else(|| decisive.first().copied());
+            if let Some(b) = best.filter(|_| chosen.is_none()) {
+                v.extended = b.fit.clone();
+                v.gain = Some(Gain {
+                    delta_bic: b.delta_bic,
+                    delta_aic: b.delta_aic,
+                    rms_ratio: b.rms_ratio,
+                    heldout_rms_before: b.heldout_rms_before,
+                    heldout_rms_after: b.heldout_rms_after,
+                });
+                v.effect = b.effect.clone();
+                v.confidence = b.delta_bic;
+            }
+            v.partial = best.map(|b| b.cause);
+            v.cause = Cause::Unexplained;
+            match best {
+                Some(b) => format!(
+                    "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named model's cause lies outside the menu (before: {reason})",
+                    b.extension,
+                    b.delta_bic,
+                    adequacy.words()
+                ),
+                None => format!(
+                    "not explained: no extension on the menu earns its parameters, yet the baseline {}; the cause lies outside the menu (before: {reason})",
+                    adequacy.words()
+                ),
+            }
+        }
+        AdequacyVerdict::Adequate => format!("{reason}; {}", adequacy.words()),
+        AdequacyVerdict::Untestable => match chosen.and_then(|c| disagreement(c, candidates).map(|d| (c, d))) {
+            Some((c, d)) => {
+                let words = disagreement_words(&d, c);
+                v.partial = Some(c.cause);
+                v.cause = Cause::Unexplained;
+                v.disagreement = Some(d);
+                format!("not explained: {words} (before: {reason})")
+            }
+            None => format!("{reason}; {}", adequacy.words()),
+        },
+    };
 }
 
 /// The cause, the reason in words, the extended fit, the gain, the effect and the confidence.
@@ -195,6 +300,8 @@ pub(super) fn verdict(
             }),
             effect: c.effect.clone(),
             confidence: c.delta_bic,
+            partial: None,
+            disagreement: None,
         },
         None => Verdict {
             cause: Cause::None,
@@ -213,6 +320,8 @@ pub(super) fn verdict(
             gain: None,
             effect: Effect::default(),
             confidence: candidates.first().map(|b| b.delta_bic).unwrap_or(0.0),
+            partial: None,
+            disagreement: None,
         },
     }
 }

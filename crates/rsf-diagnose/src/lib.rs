@@ -73,7 +73,7 @@ pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,
 };
-pub use result::{Alternative, Candidate, Diagnosis, Evidence, Gain, NoiseDrift, Secondary};
+pub use result::{Alternative, Candidate, Diagnosis, Disagreement, Evidence, Gain, NoiseDrift, Secondary};
 pub use rsf_noise::whiten;
 pub use run::{diagnose, diagnosis_fit_options, without_spikes};
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};

@@ -210,6 +210,11 @@ pub struct Diagnosis {
     /// extension's, or the baseline's, for `unexplained`): whether it explains the record's
     /// events to the noise level, and where it does not.
     pub adequacy: super::Adequacy,
+    /// For `unexplained` on a record whose adequacy could not be tested: the candidate that
+    /// scored better than the one chosen on the whole record but predicted its held-out part
+    /// worse than the baseline ([`Disagreement`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disagreement: Option<Disagreement>,
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
     /// When the record does not tell a cut-off velocity from a share of time-dependent healing
@@ -258,4 +263,24 @@ pub struct NoiseDrift {
     pub share: f64,
     /// The spectral exponent β of S ∝ f^(−β).
     pub beta: f64,
+}
+
+/// Two extensions that disagree about the record: `better` scores better on the whole record
+/// but predicts the held-out part worse than the baseline (or cannot be fitted to the training
+/// part), while the one chosen predicts it well. A record whose adequacy cannot be tested gets
+/// no cause named then (`unexplained`): a model that explained the record would do both, and
+/// the better-scoring one fitting the whole record better and predicting worse is what a
+/// model missing something does (`diagnose/decide.rs`, `disagreement`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Disagreement {
+    /// The better-scoring cause.
+    pub better: Cause,
+    /// Its extension, in words.
+    pub extension: String,
+    /// Its ΔBIC on the whole record.
+    pub delta_bic: f64,
+    /// The baseline's held-out rms.
+    pub heldout_rms_before: Option<f64>,
+    /// Its held-out rms (absent when its training fit failed).
+    pub heldout_rms_after: Option<f64>,
 }

@@ -1,10 +1,10 @@
 //! The diagnosis: baseline, reconstruction check, evidence, candidates, held-out tests, the
 //! null calibration, the decision.
 
-use super::adequacy::{AdequacyVerdict, adequacy};
+use super::adequacy::adequacy;
 use super::candidate::{Ctx, FullFit, secondary};
 use super::cause::Cause;
-use super::decide::{heldout_ok, ineligible, verdict};
+use super::decide::{heldout_ok, ineligible, judge_adequacy, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
 use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
@@ -373,48 +373,13 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         _ => None,
     };
     lap("combinations");
-    let super::decide::Verdict { mut cause, mut reason, mut extended, mut gain, mut effect, mut confidence } =
-        verdict(ctx.ev.n_effective, chosen, &candidates, &rejected, &secondary);
+    let mut v = verdict(ctx.ev.n_effective, chosen, &candidates, &rejected, &secondary);
     // the adequacy of the model named (with its second cause), or of the baseline for `none`:
     // a cause is named only when its model explains the events to the noise level
     let named_fit = secondary.as_ref().map(|s| &s.fit).or(chosen.and_then(|c| c.fit.as_ref())).unwrap_or(&ctx.base);
     let adequacy = adequacy(named_fit, &ctx.p.segments);
-    let mut partial = None;
-    match adequacy.verdict {
-        AdequacyVerdict::Inadequate => {
-            // the best partial extension: the one named, else the best decisive candidate
-            let best = chosen.or_else(|| decisive.first().copied());
-            if let Some(b) = best.filter(|_| chosen.is_none()) {
-                extended = b.fit.clone();
-                gain = Some(super::Gain {
-                    delta_bic: b.delta_bic,
-                    delta_aic: b.delta_aic,
-                    rms_ratio: b.rms_ratio,
-                    heldout_rms_before: b.heldout_rms_before,
-                    heldout_rms_after: b.heldout_rms_after,
-                });
-                effect = b.effect.clone();
-                confidence = b.delta_bic;
-            }
-            partial = best.map(|b| b.cause);
-            reason = match best {
-                Some(b) => format!(
-                    "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named model's cause lies outside the menu (before: {reason})",
-                    b.extension,
-                    b.delta_bic,
-                    adequacy.words()
-                ),
-                None => format!(
-                    "not explained: no extension on the menu earns its parameters, yet the baseline {}; the cause lies outside the menu (before: {reason})",
-                    adequacy.words()
-                ),
-            };
-            cause = Cause::Unexplained;
-        }
-        AdequacyVerdict::Adequate | AdequacyVerdict::Untestable => {
-            reason += &format!("; {}", adequacy.words());
-        }
-    }
+    judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
+    let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;
     // a cut-off and a share of time-dependent healing both strengthen long holds: when the
     // other one is decisive and credible too and scores within UNDECIDED_DBIC, the record does
     // not tell them apart, and the diagnosis says so with both scores
@@ -478,6 +443,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         effect,
         partial,
         adequacy,
+        disagreement,
         runner_up,
         undecided,
         noise_drift,

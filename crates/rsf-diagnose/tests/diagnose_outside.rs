@@ -68,3 +68,29 @@ fn a_law_outside_the_library_is_unexplained() {
     assert!(!d.adequacy.events.is_empty() && d.adequacy.events[0].ratio > 2.0);
     assert!(d.reason.starts_with("not explained"), "{}", d.reason);
 }
+
+/// A rate-dependent direct effect a + a1 ln(V/V0) (a law no library has), steps of 0.5–2
+/// decades each ~5 Dc long: too short for the adequacy test's quiet placebos (untestable). The
+/// evolution law (the Aging–Slip law) scores best on the whole record but predicts the
+/// held-out part worse than the baseline; the cut-off that scores next is set aside by
+/// nothing. The record's parts disagree, so no cause is named: `unexplained`, the cut-off as the
+/// best partial extension, the disagreement in the JSON. (Record 23 of the `--outside` study,
+/// `tests/data/outside/SOURCE.md`. Before: `cutoff_velocity`, a confident wrong cause.)
+#[test]
+fn parts_of_an_untestable_record_that_disagree_name_no_cause() {
+    // protocol loading, as `rsf diagnose` and the study have it
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/outside/rate_a_short_steps.csv");
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![rsf_laws::law_by_name("slip", |_| None).unwrap()], 0.011935249730937679);
+    fit.loading = rsf_fit::fit::LoadingMode::Protocol;
+    let d = diagnose(&rec, &segs, &DiagnoseOptions::new(fit)).unwrap();
+    println!("{}", d.reason);
+    assert_eq!(d.adequacy.verdict, AdequacyVerdict::Untestable);
+    assert_eq!(d.cause, Cause::Unexplained, "{}", d.reason);
+    assert_eq!(d.partial, Some(Cause::CutoffVelocity));
+    let dis = d.disagreement.as_ref().expect("the disagreement is reported");
+    assert_eq!(dis.better, Cause::EvolutionLaw);
+    assert!(dis.heldout_rms_after.unwrap() > dis.heldout_rms_before.unwrap());
+    assert!(d.reason.starts_with("not explained"), "{}", d.reason);
+}

@@ -217,14 +217,20 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
     }
 }
 
-/// What the data need, with the effect's numbers: "a second state variable (b₂ = …, Dc₂ = … µm)".
+/// What the data need, with the effect's numbers: "a second state variable (b₂ = …, Dc₂ = … µm)" (for
+/// `unexplained`, what the best partial extension adds).
 fn need(d: &Diagnosis) -> String {
     let f = d.extended.as_ref();
     let entries = d.effect.entries();
     let val = |k: EffectKey| entries.iter().find(|e| e.key == k).map(|e| effect_value(e, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
-    let plain = cause_words(d.cause).to_string();
-    match d.cause {
+    // for `unexplained`, the best partial extension
+    let cause = match (d.cause, d.partial) {
+        (Cause::Unexplained, Some(p)) => p,
+        (c, _) => c,
+    };
+    let plain = cause_words(cause).to_string();
+    match cause {
         Cause::EvolutionLaw => match (d.effect.law.as_deref(), val(EffectKey::BOtherFraction)) {
             (Some(l), Some(share)) if l.contains('+') => {
                 format!("a mixture of evolution laws ({}): a share {share} of b heals by the other law", law_words(l))
@@ -282,6 +288,30 @@ pub fn verdict(d: &Diagnosis) -> String {
         ["no", "one", "two", "three"].get(laws.len()).map_or(laws.len().to_string(), |w| w.to_string()),
         if laws.len() == 1 { "" } else { "s" }
     );
+    if let (Cause::Unexplained, Some(dis)) = (d.cause, &d.disagreement) {
+        let held_out = match (dis.heldout_rms_before, dis.heldout_rms_after) {
+            (Some(b), Some(a)) => format!(
+                "predicts the held-out part worse than the baseline (rms {} → {})",
+                fmt_num(b, 2),
+                fmt_num(a, 2)
+            ),
+            _ => "cannot be fitted to the held-out test's training part".into(),
+        };
+        let s = format!(
+            "No cause is named: the record's parts disagree. {} scores better on the whole record (ΔBIC = {}) but \
+             {held_out}, while {} predicts it well{}. A model that explained the record would do both; the record \
+             has too few events with a quiet stretch as long as their transient to test either against its noise. \
+             The cause may lie outside the menu: a law or effect the library does not have.",
+            dis.extension,
+            fmt_num(dis.delta_bic, 3),
+            need(d),
+            match &d.gain {
+                Some(g) => format!(" (ΔBIC = {})", fmt_num(g.delta_bic, 3)),
+                None => String::new(),
+            }
+        );
+        return esc(&s);
+    }
     if d.cause == Cause::Unexplained {
         let a = &d.adequacy;
         let mut s = format!(
