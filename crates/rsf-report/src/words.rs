@@ -292,8 +292,8 @@ pub fn verdict(d: &Diagnosis) -> String {
         let held_out = match (dis.heldout_rms_before, dis.heldout_rms_after) {
             (Some(b), Some(a)) => format!(
                 "predicts the held-out part worse than the baseline (rms {} → {})",
-                fmt_num(b, 2),
-                fmt_num(a, 2)
+                fmt_num(b, 3),
+                fmt_num(a, 3)
             ),
             _ => "cannot be fitted to the held-out test's training part".into(),
         };
