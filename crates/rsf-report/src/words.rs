@@ -299,7 +299,7 @@ pub fn verdict(d: &Diagnosis) -> String {
         };
         let s = format!(
             "No cause is named: the record's parts disagree. {} scores better on the whole record (ΔBIC = {}) but \
-             {held_out}, while {} predicts it well{}. A model that explained the record would do both; the record \
+             {held_out}, while {} predicts it no worse than the baseline does{}. A model that explained the record would do both; the record \
              has too few events with a quiet stretch as long as their transient to test either against its noise. \
              The cause may lie outside the menu: a law or effect the library does not have.",
             dis.extension,
