@@ -97,9 +97,10 @@ pub(super) fn heldout_ok(before: Option<f64>, after: Option<f64>) -> bool {
 /// part) contradicts it — one model fits the whole better, the other predicts the unseen part
 /// better, and a model that explained the record would do both. Such a record gets no cause
 /// named. (A candidate the held-out test cannot judge, `heldout_uninformative`, is no
-/// contradiction.) In the `--outside` study every untestable record named a wrong cause this way
-/// (a cut-off chosen after the evolution law's better score was set aside on its held-out
-/// prediction), and no untestable record of the 111-record set with a right cause.
+/// contradiction.) In the `--outside` study with the law file registered, every untestable
+/// record that named a wrong cause did so this way (a cut-off chosen after the evolution law's
+/// better score was set aside on its held-out prediction); no correctly named untestable record
+/// of the four study sets did (docs/diagnose/detection.md).
 fn disagreement(chosen: &Candidate, candidates: &[Candidate]) -> Option<Disagreement> {
     candidates
         .iter()

@@ -267,10 +267,11 @@ pub struct NoiseDrift {
 
 /// Two extensions that disagree about the record: `better` scores better on the whole record
 /// but predicts the held-out part worse than the baseline (or cannot be fitted to the training
-/// part), while the one chosen predicts it well. A record whose adequacy cannot be tested gets
-/// no cause named then (`unexplained`): a model that explained the record would do both, and
-/// the better-scoring one fitting the whole record better and predicting worse is what a
-/// model missing something does (`diagnose/decide.rs`, `disagreement`).
+/// part), while the one chosen predicts it no worse than the baseline does. A record whose
+/// adequacy cannot be tested gets no cause named then (`unexplained`): a model that explained the
+/// record would do both, and the better-scoring one fitting the whole record better and
+/// predicting worse is what a model missing something does (`diagnose/decide.rs`,
+/// `disagreement`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Disagreement {
     /// The better-scoring cause.
