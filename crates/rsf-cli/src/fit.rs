@@ -358,11 +358,12 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         out += &format!("best partial extension: {p}\n");
     }
     out += &format!(
-        "adequacy: {} (excess {:.2}, p {:.3}, {} event windows)\n",
+        "adequacy: {} (excess {:.2}, p {:.3}, {} of {} events tested)\n",
         d.adequacy.verdict.as_str(),
         d.adequacy.excess,
         d.adequacy.p_value,
-        d.adequacy.windows
+        d.adequacy.windows,
+        d.adequacy.events_total
     );
     if let Some(s) = &d.secondary {
         out += &format!(

@@ -15,7 +15,11 @@
 //! bin means of the model's own rate of change after the event is taken out: a shift of the
 //! event's time, which a noisy load point leaves uncertain by a fraction of a second and whose
 //! misfit is locked to the event without being physics. Each placebo takes out the same shape at
-//! the same times since its start, so event and placebos lose the same freedom. The window's
+//! the same times since its start, so event and placebos lose the same freedom. Where the load
+//! point is noisy, a break's time is known only to about 3σ_x/|Δv| (`timing.rs`), and a fast
+//! transient misplaced by that much is far from linear in the shift: each window also takes the
+//! best of the model's own changes for break shifts within that uncertainty
+//! ([`break_shifts`]), the event window and its placebos alike. The window's
 //! mean is left out, so a slow drift's offset does not count. Event and placebos are made
 //! alike in what the noise does to them: each placebo starts at the event's sampling phase (a
 //! break the lab logged as a sample puts one sample at a window's start), and a window of fewer
@@ -37,6 +41,7 @@
 //! event window has its placebos (steps too close together for a quiet stretch of sliding as
 //! long as a transient).
 
+use super::timing::TIMING_SIGMAS;
 use rsf_fit::fit::FitResult;
 use rsf_fit::segment::Segment;
 use serde::Serialize;
@@ -75,8 +80,17 @@ pub const MIN_WINDOWS: usize = 1;
 /// (10^−2.5 = 3.16e-3, …).
 const BIN_EDGES: [f64; 8] =
     [0.0, 1e-3, 3.162_277_660_168_379_5e-3, 1e-2, 3.162_277_660_168_379_5e-2, 1e-1, 3.162_277_660_168_379_5e-1, 1.0];
+/// Bins of a window.
+const BINS: usize = BIN_EDGES.len() - 1;
 /// A window whose samples fill fewer than this many bins is left out (its shape unseen).
 const MIN_BINS: usize = 3;
+/// Break shifts tried on each side of zero, evenly over the break-time uncertainty
+/// ([`break_shifts`]): a tenth of it apart, so the best one misplaces the break by at most a
+/// twentieth of the uncertainty.
+const BREAK_SHIFT_STEPS: i32 = 10;
+/// A break uncertain by less than this fraction of its window is not shifted: a thousandth of
+/// the window's first bin, where the break's timing matters most.
+const NEGLIGIBLE_SHIFT: f64 = 1e-6;
 /// A window of fewer samples is left out: sampled at a tenth of its length or coarser, its
 /// transient's first part — where the event's timing matters most and the model changes
 /// fastest — rests on one or two samples, whose misfit to a break read a fraction of a sample
@@ -141,11 +155,24 @@ pub struct Adequacy {
     pub noise_rms: f64,
     /// Event windows tested.
     pub windows: usize,
+    /// The record's events (steps and reslides): `windows` of them were tested, the others'
+    /// windows had too few samples or no placebos (a transient longer than every quiet
+    /// stretch of sliding).
+    pub events_total: usize,
     /// Each tested window, worst first.
     pub events: Vec<EventMisfit>,
 }
 
 impl Adequacy {
+    /// How many of the record's events were tested, when not all: `; 2 of 8 events tested`.
+    pub fn untested_words(&self) -> String {
+        if self.windows < self.events_total {
+            format!("; {} of {} events tested", self.windows, self.events_total)
+        } else {
+            String::new()
+        }
+    }
+
     /// The verdict in words, for the diagnosis's reason.
     pub fn words(&self) -> String {
         match self.verdict {
@@ -154,8 +181,10 @@ impl Adequacy {
                     .into()
             }
             AdequacyVerdict::Adequate => format!(
-                "it explains the events to the noise level (event-locked misfit {:.2}× the noise's variance, p = {:.2})",
-                self.excess, self.p_value
+                "it explains the events to the noise level (event-locked misfit {:.2}× the noise's variance, p = {:.2}{})",
+                self.excess,
+                self.p_value,
+                self.untested_words()
             ),
             AdequacyVerdict::Inadequate => {
                 let worst: Vec<String> = self
@@ -178,13 +207,14 @@ impl Adequacy {
     }
 }
 
-/// One window's Q: the curve's samples in [t0, t0 + len) averaged in bins of time since t0, the
-/// bin means' spread about their mean after its part along the bin means of `shape` is taken
-/// out. `shape` is the event's own nuisance, the model's rate of change after the event as (time
-/// since the event, rate) pairs: a shift of the event's time. A placebo takes out the same shape
-/// at the same times since its start, so that event and placebos lose the same freedom and
-/// stay exchangeable; the spread can only shrink.
-fn window_q(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) -> Option<f64> {
+/// A window's bins: (bin index, mean residual, mean shape) of each bin its samples fill.
+type Bins = Vec<(usize, f64, f64)>;
+
+/// The window [t0, t0 + len)'s samples averaged in bins of time since t0: the residuals, and
+/// `shape` (the event's own nuisance, the model's rate of change after the event as (time since
+/// the event, rate) pairs: a shift of the event's time) at the same times. `None` for a window
+/// of fewer than [`MIN_WINDOW_SAMPLES`] or [`MIN_BINS`] filled bins.
+fn window_bins(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) -> Option<Bins> {
     let i0 = time.partition_point(|&t| t < t0);
     let i1 = time.partition_point(|&t| t < t0 + len);
     let used = i0..i1;
@@ -192,26 +222,84 @@ fn window_q(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) 
         return None;
     }
     // bin sums of the residuals and of the shape
-    let mut sums = [(0.0f64, 0.0f64, 0usize); BIN_EDGES.len() - 1];
+    let mut sums = [(0.0f64, 0.0f64, 0usize); BINS];
     for i in used {
-        let u = (time[i] - t0) / len;
-        let b = BIN_EDGES[1..].partition_point(|&e| e <= u).min(sums.len() - 1);
+        let b = bin_of((time[i] - t0) / len);
         sums[b].0 += res[i];
         sums[b].1 += interpolate(shape, time[i] - t0);
         sums[b].2 += 1;
     }
-    let means: Vec<(f64, f64)> =
-        sums.iter().filter(|s| s.2 > 0).map(|s| (s.0 / s.2 as f64, s.1 / s.2 as f64)).collect();
-    if means.len() < MIN_BINS {
-        return None;
-    }
-    let n = means.len() as f64;
-    let (mr, mg) = (means.iter().map(|m| m.0).sum::<f64>() / n, means.iter().map(|m| m.1).sum::<f64>() / n);
-    // the shift that best explains the bin means' spread, taken out of it (so the spread can
-    // only shrink, in an event window and in its placebos alike)
-    let (rg, gg) = means.iter().fold((0.0, 0.0), |(rg, gg), m| (rg + (m.0 - mr) * (m.1 - mg), gg + (m.1 - mg).powi(2)));
+    let bins: Bins = sums
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.2 > 0)
+        .map(|(b, s)| (b, s.0 / s.2 as f64, s.1 / s.2 as f64))
+        .collect();
+    (bins.len() >= MIN_BINS).then_some(bins)
+}
+
+/// The bin of a sample at `u` (time since the window's start over its length).
+fn bin_of(u: f64) -> usize {
+    BIN_EDGES[1..].partition_point(|&e| e <= u).min(BINS - 1)
+}
+
+/// Q of a window's bins with `offset` added to its bin means: their spread about their mean,
+/// after the part along the shape's bin means is taken out (a linear shift of the event's
+/// time, so the spread can only shrink, in an event window and in its placebos alike).
+fn spread(bins: &Bins, offset: &[f64; BINS]) -> f64 {
+    let n = bins.len() as f64;
+    let r = |&(b, r, _): &(usize, f64, f64)| r + offset[b];
+    let (mr, mg) = (bins.iter().map(r).sum::<f64>() / n, bins.iter().map(|m| m.2).sum::<f64>() / n);
+    let (rg, gg) = bins.iter().fold((0.0, 0.0), |(rg, gg), m| (rg + (r(m) - mr) * (m.2 - mg), gg + (m.2 - mg).powi(2)));
     let shift = if gg > 0.0 { rg / gg } else { 0.0 };
-    Some(means.iter().map(|m| (m.0 - mr - shift * (m.1 - mg)).powi(2)).sum::<f64>() / n)
+    bins.iter().map(|m| (r(m) - mr - shift * (m.2 - mg)).powi(2)).sum::<f64>() / n
+}
+
+/// One window's Q with no break shift (the linear one only).
+#[cfg(test)]
+fn window_q(time: &[f64], res: &[f64], shape: &[(f64, f64)], t0: f64, len: f64) -> Option<f64> {
+    window_bins(time, res, shape, t0, len).map(|b| spread(&b, &[0.0; BINS]))
+}
+
+/// The least Q over the break shifts: each shift's bin-mean change of the model added in turn.
+fn least_q(bins: &Bins, shifts: &[[f64; BINS]]) -> f64 {
+    shifts.iter().map(|o| spread(bins, o)).fold(f64::INFINITY, f64::min)
+}
+
+/// The break shifts an event window and its placebos are judged under: for each shift δ in
+/// [−d, d] (`d` the event's break-time uncertainty, s), the bin means over the event window's
+/// samples of m(t) − m(t − δ), the change of the model were the break δ later (the data then
+/// follow m(t − δ), and their residual about it is the residual about m plus that change). A
+/// break misread by a few samples misplaces a fast transient by far more than the linear shift
+/// takes out (a reslide's rise, sampled at 100 Hz and read 0.035 s off by an encoder noise of
+/// 0.19 µm at 10 µm/s, left an event-locked misfit of 3× the noise in a model that was the
+/// truth). Zero shift is always among them.
+fn break_shifts(time: &[f64], model: &[f64], t0: f64, len: f64, d: f64) -> Vec<[f64; BINS]> {
+    let mut out = vec![[0.0; BINS]];
+    // a clean load point (σ_x round-off) leaves no shift worth trying
+    if !(d > NEGLIGIBLE_SHIFT * len && d.is_finite()) {
+        return out;
+    }
+    let i0 = time.partition_point(|&t| t < t0);
+    let i1 = time.partition_point(|&t| t < t0 + len);
+    // the model around the window (from d before it), as (time, value) pairs to interpolate
+    let j0 = time.partition_point(|&t| t < t0 - d).saturating_sub(1);
+    let curve: Vec<(f64, f64)> = (j0..i1).map(|i| (time[i], model[i])).collect();
+    for k in (-BREAK_SHIFT_STEPS..=BREAK_SHIFT_STEPS).filter(|&k| k != 0) {
+        let delta = d * k as f64 / BREAK_SHIFT_STEPS as f64;
+        let mut sums = [(0.0f64, 0usize); BINS];
+        for i in i0..i1 {
+            let b = bin_of((time[i] - t0) / len);
+            sums[b].0 += model[i] - interpolate(&curve, time[i] - delta);
+            sums[b].1 += 1;
+        }
+        let mut o = [0.0; BINS];
+        for (b, s) in sums.iter().enumerate().filter(|(_, s)| s.1 > 0) {
+            o[b] = s.0 / s.1 as f64;
+        }
+        out.push(o);
+    }
+    out
 }
 
 /// `shape` (sorted by its first member) at `x`, linearly interpolated, held at its ends.
@@ -248,8 +336,10 @@ fn model_rate(time: &[f64], model: &[f64]) -> Vec<f64> {
 /// placebos' Q.
 type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
 
-/// The adequacy of the fit `f` on the record's `segments` (those the fit used).
-pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
+/// The adequacy of the fit `f` on the record's `segments` (those the fit used), with the
+/// load point's noise about the protocol's lines `load_point_sigma_um` (µm; 0 for a clean one),
+/// which sets how far each break's time is uncertain.
+pub fn adequacy(f: &FitResult, segments: &[Segment], load_point_sigma_um: f64) -> Adequacy {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let rate = model_rate(&c.time, &c.model);
@@ -263,7 +353,9 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
             continue;
         }
         let reslide = segments[j - 1].v <= 0.0;
-        events.push((j, s.t0, window_of(s), if reslide { "reslide" } else { "step" }));
+        // the break's time is known to about σ_x/|Δv| (timing.rs), taken TIMING_SIGMAS wide
+        let uncertainty = TIMING_SIGMAS * load_point_sigma_um / (s.v - segments[j - 1].v).abs();
+        events.push((j, s.t0, window_of(s), if reslide { "reslide" } else { "step" }, uncertainty));
     }
     // where a placebo may lie: inside a sliding segment, after its own transient (no event
     // inside it, and none of an event's transient)
@@ -285,9 +377,12 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
         starts
     };
     let mut tested: Vec<Tested> = vec![];
-    for &(j, t0, len, what) in &events {
+    for &(j, t0, len, what, uncertainty) in &events {
         let shape = event_shape(time, &rate, t0, len);
-        let Some(q) = window_q(time, &res, &shape, t0, len) else { continue };
+        let Some(bins) = window_bins(time, &res, &shape, t0, len) else { continue };
+        // the event window and each placebo alike take the break shift that fits them best
+        let shifts = break_shifts(time, &c.model, t0, len, uncertainty);
+        let q = least_q(&bins, &shifts);
         // each placebo starts at the event window's sampling phase: as far before a sample as
         // the event is before its first (0 where the break is a sample, as a lab's logged
         // change of velocity is). A placebo placed between samples would lack the single-sample
@@ -301,7 +396,8 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
                 let start = first - phase;
                 (start + len <= end).then_some(start)
             })
-            .filter_map(|s| window_q(time, &res, &shape, s, len))
+            .filter_map(|s| window_bins(time, &res, &shape, s, len))
+            .map(|b| least_q(&b, &shifts))
             .filter(|q| *q > 0.0)
             .collect();
         if placebo.len() >= MIN_PLACEBOS && q > 0.0 {
@@ -316,6 +412,7 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
             event_rms: f64::NAN,
             noise_rms: f64::NAN,
             windows: tested.len(),
+            events_total: events.len(),
             events: vec![],
         };
     }
@@ -366,6 +463,7 @@ pub fn adequacy(f: &FitResult, segments: &[Segment]) -> Adequacy {
         event_rms: (t_real / n).sqrt(),
         noise_rms: (t_noise / n).sqrt(),
         windows: tested.len(),
+        events_total: events.len(),
         events: per_event,
     }
 }
@@ -404,5 +502,30 @@ mod tests {
         let other: Vec<f64> = time.iter().map(|t| 1e-4 * (t / 20.0)).collect();
         let q = window_q(&time, &other, &shape, 0.0, 20.0).unwrap();
         assert!(q > 1e-11, "{q:e}");
+    }
+
+    /// A reslide read 0.035 s late (a kink: the spring starts loading) leaves a misfit the
+    /// linear shift cannot take out; the best break shift within a 0.057 s uncertainty does.
+    /// A break 0.2 s late, beyond the uncertainty, and a misfit of another shape stay.
+    #[test]
+    fn a_break_misread_within_its_uncertainty_is_not_a_misfit() {
+        let time: Vec<f64> = (0..1000).map(|i| -1.0 + i as f64 * 0.01).collect();
+        let reslide = |t: f64| if t < 0.0 { 0.6 } else { 0.6 + 0.03 * (1.0 - (-t / 0.5).exp()) };
+        let model: Vec<f64> = time.iter().map(|&t| reslide(t)).collect();
+        let rate = model_rate(&time, &model);
+        let shape = event_shape(&time, &rate, 0.0, 8.0);
+        let misfit = |late: f64| -> Vec<f64> { time.iter().zip(&model).map(|(&t, m)| reslide(t - late) - m).collect() };
+        let q = |res: &[f64], d: f64| {
+            let bins = window_bins(&time, res, &shape, 0.0, 8.0).unwrap();
+            least_q(&bins, &break_shifts(&time, &model, 0.0, 8.0, d))
+        };
+        let res = misfit(0.035);
+        let linear = q(&res, 0.0);
+        assert!(linear > 1e-9, "{linear:e}");
+        assert!(q(&res, 0.057) < 1e-3 * linear, "{:e} vs {linear:e}", q(&res, 0.057));
+        let far = misfit(0.2);
+        assert!(q(&far, 0.057) > 0.1 * q(&far, 0.0), "{:e}", q(&far, 0.057));
+        let other: Vec<f64> = time.iter().map(|&t| if t > 0.0 { 3e-4 * (-t / 2.0).exp() } else { 0.0 }).collect();
+        assert!(q(&other, 0.057) > 0.5 * q(&other, 0.0), "{:e} vs {:e}", q(&other, 0.057), q(&other, 0.0));
     }
 }

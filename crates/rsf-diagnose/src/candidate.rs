@@ -85,6 +85,9 @@ pub(super) struct Ctx<'a> {
     /// Load-point noise about the protocol, µm, when it matters for the break times: the null
     /// replicates then re-segment their own noisy load point.
     pub(super) lp_noise: Option<f64>,
+    /// Load-point noise about the protocol's lines, µm (the adequacy test's break-time
+    /// uncertainty).
+    pub(super) load_point_sigma: f64,
 }
 
 impl Ctx<'_> {
@@ -263,7 +266,7 @@ impl Ctx<'_> {
             effect: effect_of(&[cause], &f),
             equally_good_laws: alike,
             alternatives: others,
-            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments).excess,
+            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
             at_bound,

@@ -10,7 +10,7 @@ use super::evidence::{evidence, noisy, reload_stiffness};
 use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
 use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
 use super::starts::slip_rate_range;
-use super::timing::timing_mask;
+use super::timing::{load_point_sigma, timing_mask};
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
 use rsf_fit::data::{Record, isolated_spikes};
 use rsf_fit::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
@@ -241,6 +241,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     lap("held-out baseline");
     let v_range = slip_rate_range(&base).unwrap_or(DEFAULT_V_RANGE);
+    let load_point_sigma = load_point_sigma(&p);
     let ctx = Ctx {
         rec,
         segs,
@@ -266,6 +267,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ho_base_noise: ho_base.as_ref().map(|(_, f)| noisy(f)),
         ho_base,
         lp_noise,
+        load_point_sigma,
     };
     let causes: Vec<Cause> = Cause::candidates()
         .filter(|&c| !(c == Cause::Stiffness && ctx.base_opts.fit_stiffness))
@@ -377,7 +379,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the adequacy of the model named (with its second cause), or of the baseline for `none`:
     // a cause is named only when its model explains the events to the noise level
     let named_fit = secondary.as_ref().map(|s| &s.fit).or(chosen.and_then(|c| c.fit.as_ref())).unwrap_or(&ctx.base);
-    let adequacy = adequacy(named_fit, &ctx.p.segments);
+    let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma);
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;
     // a cut-off and a share of time-dependent healing both strengthen long holds: when the

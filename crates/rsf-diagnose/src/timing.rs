@@ -28,7 +28,7 @@ pub struct TimingMask {
 }
 
 /// The load-point noise about the protocol's lines, µm (robust).
-fn load_point_sigma(p: &Prepared) -> f64 {
+pub(super) fn load_point_sigma(p: &Prepared) -> f64 {
     let mut r: Vec<f64> = p
         .segments
         .iter()

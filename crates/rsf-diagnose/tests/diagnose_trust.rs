@@ -311,9 +311,29 @@ fn ar1_noise_in_time_on_variable_sampling_is_not_drift() {
 /// sampling phase and windows of at least ten samples make it `none`, adequate.
 #[test]
 fn a_true_baseline_on_a_sampled_break_is_adequate() {
-    use rsf_diagnose::AdequacyVerdict;
-    let d = diagnosed_record("rec_097.csv", 0.00599549780660686);
+    assert_named_adequate("rec_097.csv", 0.00599549780660686, Cause::None);
+}
+
+/// The test record `file` (nominal stiffness `k`, 1/µm) is named `cause`, its model adequate.
+fn assert_named_adequate(file: &str, k: f64, cause: Cause) {
+    let d = diagnosed_record(file, k);
     println!("{}", d.reason);
-    assert_eq!(d.cause, Cause::None, "{}", d.reason);
-    assert_eq!(d.adequacy.verdict, AdequacyVerdict::Adequate, "{}", d.reason);
+    assert_eq!(d.cause, cause, "{}", d.reason);
+    assert_eq!(d.adequacy.verdict, rsf_diagnose::AdequacyVerdict::Adequate, "{}", d.reason);
+}
+
+/// A true model judged inadequate for its break times (record 2 of the 60–75k-row speed set,
+/// `generate.py --drift --seed 22 --rows-scale 5`: independent generator; an Aging share of
+/// 0.75 in a two-state gouge, the staircase 1 → 300 µm/s and holds of 3–300 s at 10 µm/s;
+/// encoder noise 0.19 µm, 1/f noise, time jitter, spikes; 66,885 rows at 100 Hz). The
+/// slip + aging mixture is named and its fit is the truth within 1 %, yet the adequacy test
+/// judged it inadequate (excess 5.1, p < 0.001, worst at three reslides: 5.9×, 5.4×, 4.8×), so
+/// the verdict was `unexplained`. The noisy load point leaves each reslide's time uncertain by
+/// 3σ_x/Δv = 0.057 s; the protocol read them 0.03 s off, which misplaces the spring's loading
+/// (k·V = 0.047/s) by 10× the noise in the first samples — far from linear in the shift the
+/// test took out. The test now takes the break shift within that uncertainty that fits best,
+/// in the event window and in its placebos alike.
+#[test]
+fn a_true_mixture_with_uncertain_break_times_is_adequate() {
+    assert_named_adequate("gouge_encoder_holds.csv", 0.004698618005311877, Cause::EvolutionLaw);
 }

@@ -44,3 +44,26 @@ fn friction_with_no_rate_dependence_ends_promptly() {
         assert!(r.rms < 1e-3);
     }
 }
+
+/// Every parameter fixed (the model at a known point, e.g. a generator's truth): the fit
+/// evaluates it — rms and curve, nothing free — instead of panicking on a Jacobian of no
+/// columns.
+#[test]
+fn a_fit_with_every_parameter_fixed_evaluates_the_model() {
+    let m = Model::new(0.6, 1.0, 0.01, 0.005).with_state(StateVariable::new(Slip, 0.012, 5.0));
+    let rec =
+        record(&m, 1.0, &[(1.0, 60.0, 0.1), (10.0, 20.0, 0.05), (1.0, 60.0, 0.1)], Noise { sigma: 2e-4, tau: 0.0 }, 3)
+            .unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut o = opts();
+    o.fix = [("mu0", 0.6), ("a", 0.01), ("b1", 0.012), ("dc1", 5.0)]
+        .into_iter()
+        .map(|(n, v)| rsf_fit::fit::Constraint::fixed(n, v))
+        .collect();
+    let r = fit(&prepare(&rec, &segs, &o).unwrap(), &o).unwrap();
+    assert!(r.stderr.is_empty(), "free: {:?}", r.stderr.keys());
+    assert_eq!((r.params.a, r.params.b[0], r.params.dc[0]), (0.01, 0.012, 5.0));
+    // the truth's residual is the noise
+    assert!(r.rms > 1.7e-4 && r.rms < 2.3e-4, "rms {}", r.rms);
+    assert_eq!(r.curve.model.len(), r.curve.data.len());
+}

@@ -295,10 +295,20 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
         ),
         rsf_diagnose::AdequacyVerdict::Adequate => format!(
             "{what} explains the record to its noise level where the events are: over {} event windows the \
-             misfit's bin means spread {}× as much (in variance) as in quiet windows of the same length (p = {}).",
+             misfit's bin means spread {}× as much (in variance) as in quiet windows of the same length (p = {}).{}",
             a.windows,
             fmt_num(a.excess, 3),
-            fmt_num(a.p_value, 2)
+            fmt_num(a.p_value, 2),
+            if a.windows < a.events_total {
+                format!(
+                    " Only {} of the record's {} events were tested: the others' windows have too few samples, or \
+                     transients longer than every quiet stretch of sliding to compare with, and what the model \
+                     does there is not judged.",
+                    a.windows, a.events_total
+                )
+            } else {
+                String::new()
+            }
         ),
         rsf_diagnose::AdequacyVerdict::Inadequate => format!(
             "{what} does not explain the record: over {} event windows the misfit's bin means spread {}× as much \

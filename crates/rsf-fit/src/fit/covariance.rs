@@ -71,6 +71,10 @@ fn normal_matrix(raw_j: &[f64], weights: &[f64], m: usize) -> DMatrix<f64> {
 /// SVD pseudo-inverse, so an unidentified direction shows as a huge variance, not a tiny one.
 fn sandwich(h: &DMatrix<f64>, g: &DMatrix<f64>) -> DMatrix<f64> {
     let m = h.nrows();
+    // nothing free (every parameter fixed): nothing to estimate, and nalgebra refuses an empty SVD
+    if m == 0 {
+        return DMatrix::zeros(0, 0);
+    }
     let dsc: Vec<f64> = (0..m).map(|k| h[(k, k)].sqrt().max(1e-300)).collect();
     let hs = DMatrix::from_fn(m, m, |a, b| h[(a, b)] / (dsc[a] * dsc[b]));
     // nalgebra's plain SVD can iterate forever on non-finite input: check, and cap iterations

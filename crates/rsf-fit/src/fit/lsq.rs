@@ -99,7 +99,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
             used.set(used.get() + e.steps);
             let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
             let mut j = e.raw_j;
-            for (row, w) in j.chunks_mut(m).zip(&p.weights) {
+            for (row, w) in j.chunks_mut(m.max(1)).zip(&p.weights) {
                 row.iter_mut().for_each(|x| *x *= w);
             }
             Ok(Eval { r, j })
