@@ -97,6 +97,10 @@ pub struct Row {
     pub adequacy: Option<String>,
     /// Its excess (1: the event windows look like noise).
     pub adequacy_excess: Option<f64>,
+    /// The record's events (steps and reslides) the adequacy test judged…
+    pub events_tested: Option<usize>,
+    /// …of this many.
+    pub events: Option<usize>,
     /// Drift rms left in the residuals of the model named, when reported.
     pub drift_rms: Option<f64>,
     /// The manifest's `meta_…` cells.
@@ -127,6 +131,8 @@ impl Row {
             partial: None,
             adequacy: None,
             adequacy_excess: None,
+            events_tested: None,
+            events: None,
             drift_rms: None,
             meta: vec![],
         }
@@ -148,7 +154,7 @@ const HEAD: [(&str, CellKind); 11] = [
     ("rms", CellKind::Number),
 ];
 /// The fixed columns after the parameters, and their kinds.
-const TAIL: [(&str, CellKind); 9] = [
+const TAIL: [(&str, CellKind); 11] = [
     ("cause", CellKind::Text),
     ("delta_bic", CellKind::Number),
     ("rms_ratio", CellKind::Number),
@@ -157,6 +163,8 @@ const TAIL: [(&str, CellKind); 9] = [
     ("partial", CellKind::Text),
     ("adequacy", CellKind::Text),
     ("adequacy_excess", CellKind::Number),
+    ("events_tested", CellKind::Count),
+    ("events", CellKind::Count),
     ("drift_rms", CellKind::Number),
 ];
 
@@ -300,6 +308,8 @@ pub fn summary_table(rows: &[Row]) -> SummaryTable {
             text(r.partial.as_deref().unwrap_or_default()),
             text(r.adequacy.as_deref().unwrap_or_default()),
             num(r.adequacy_excess),
+            Cell::Count(r.events_tested.map(|n| n as u64)),
+            Cell::Count(r.events.map(|n| n as u64)),
             num(r.drift_rms),
         ]);
         for m in &metas {

@@ -185,6 +185,8 @@ fn work(entry: &Entry, defaults: &RecordOptions, job: Job, threads: usize) -> Ou
                 out.row.partial = d.partial.map(|c| c.to_string());
                 out.row.adequacy = Some(d.adequacy.verdict.as_str().to_string());
                 out.row.adequacy_excess = Some(d.adequacy.excess).filter(|x| x.is_finite());
+                out.row.events_tested = Some(d.adequacy.windows);
+                out.row.events = Some(d.adequacy.events_total);
                 out.row.drift_rms = d.noise_drift.as_ref().map(|n| n.rms);
                 out.diagnosis = Some(d);
             }

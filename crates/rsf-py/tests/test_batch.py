@@ -46,17 +46,18 @@ def batch_summary(lab, *flags):
 
 
 TEXT = {"file", "status", "error", "laws", "cause", "effect", "runner_up", "partial", "adequacy"}
+COUNTS = {"samples", "events_tested", "events"}
 
 
 def typed_csv(path):
     """summary.csv read without pandas' type guessing, each column typed as rsf batch types it:
-    text as written, ``samples`` a count, every other column a number."""
+    text as written, ``samples`` and the events tested counts, every other column a number."""
     raw = pd.read_csv(path, dtype=str, keep_default_na=False)
     out = {}
     for c in raw.columns:
         if c in TEXT or c.startswith("meta_"):
             out[c] = raw[c].astype(object)
-        elif c == "samples":
+        elif c in COUNTS:
             out[c] = pd.to_numeric(raw[c].replace("", None)).astype("Int64")
         else:
             out[c] = pd.to_numeric(raw[c].replace("", None)).astype("float64")
@@ -81,6 +82,8 @@ def test_diagnose_many_on_dask_equals_rsf_batch(lab, client):
     assert list(got["status"]) == ["ok", "ok", "ok", "read_failed"]
     assert got.loc[3, "error"].endswith("column `mu`: `0.6x` is not a number")
     assert got["cause"].iloc[:3].notna().all() and (got["a_se"].iloc[:3] > 0).all()
+    # the adequacy test's coverage: of the record's events, those it could judge
+    assert (got["events"].iloc[:3] >= 1).all() and (got["events_tested"].iloc[:3] <= got["events"].iloc[:3]).all()
     assert list(got["meta_sample"]) == ["BRAVA b819", "S2", "S3", "S4"]
 
 

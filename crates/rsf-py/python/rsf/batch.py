@@ -109,6 +109,6 @@ def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffn
                   **options):
     """Diagnoses every record, as ``rsf batch --diagnose`` does (``fit=True``: ``--fit
     --diagnose``); see :func:`fit_many`. The table adds ``cause``, ``delta_bic``,
-    ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess`` and
-    ``drift_rms``."""
+    ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess``,
+    ``events_tested`` (of ``events``, the record's steps and reslides) and ``drift_rms``."""
     return _many(manifest_or_paths, stiffness, client, fit, True, progress, options, allow_outside)
