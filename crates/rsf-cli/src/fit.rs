@@ -357,13 +357,19 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     if let Some(p) = d.partial {
         out += &format!("best partial extension: {p}\n");
     }
+    let l = &d.adequacy.levels;
     out += &format!(
-        "adequacy: {} (excess {:.2}, p {:.3}, {} of {} events tested)\n",
+        "adequacy: {} (excess {:.2}, p {:.3}, {} of {} events tested{})\n",
         d.adequacy.verdict.as_str(),
         d.adequacy.excess,
         d.adequacy.p_value,
         d.adequacy.windows,
-        d.adequacy.events_total
+        d.adequacy.events_total,
+        if l.p_value.is_finite() {
+            format!("; levels across {} steps: excess {:.2}, p {:.3}", l.steps.len(), l.excess, l.p_value)
+        } else {
+            String::new()
+        }
     );
     if let Some(s) = &d.secondary {
         out += &format!(

@@ -103,6 +103,18 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["adequacy"] = json!(d.adequacy.verdict.as_str());
             r["adequacy_excess"] = json!(d.adequacy.excess);
             r["adequacy_p"] = json!(d.adequacy.p_value);
+            r["adequacy_windows"] = json!(d.adequacy.windows);
+            r["adequacy_events"] = json!(d.adequacy.events_total);
+            r["levels_p"] = json!(d.adequacy.levels.p_value);
+            r["levels_excess"] = json!(d.adequacy.levels.excess);
+            r["levels"] = json!(
+                d.adequacy
+                    .levels
+                    .steps
+                    .iter()
+                    .map(|l| json!([l.segment, l.offset, l.noise, l.z, l.ln_v_ratio]))
+                    .collect::<Vec<_>>()
+            );
             r["law"] = json!(d.effect.law);
             // laws the record cannot tell from the one named (the evolution-law candidate's)
             r["equally_good_laws"] = json!(

@@ -41,6 +41,8 @@
 //! event window has its placebos (steps too close together for a quiet stretch of sliding as
 //! long as a transient).
 
+use super::levels::{LevelTest, level_test};
+use super::sensitivity::FitEffect;
 use super::timing::TIMING_SIGMAS;
 use rsf_fit::fit::FitResult;
 use rsf_fit::segment::Segment;
@@ -161,6 +163,10 @@ pub struct Adequacy {
     pub events_total: usize,
     /// Each tested window, worst first.
     pub events: Vec<EventMisfit>,
+    /// The level test (`levels.rs`): each step's change of level against its placebos and the
+    /// fit's own uncertainty. Reported beside the verdict, not part of it: its null is still
+    /// too narrow on records with nothing hidden (docs/diagnose/detection.md).
+    pub levels: LevelTest,
 }
 
 impl Adequacy {
@@ -205,6 +211,13 @@ impl Adequacy {
             }
         }
     }
+}
+
+/// The rule of both tests: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
+/// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`].
+pub(super) fn misfit(p_value: f64, excess: f64) -> bool {
+    (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
+        || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE)
 }
 
 /// A window's bins: (bin index, mean residual, mean shape) of each bin its samples fill.
@@ -338,8 +351,16 @@ type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
 
 /// The adequacy of the fit `f` on the record's `segments` (those the fit used), with the
 /// load point's noise about the protocol's lines `load_point_sigma_um` (µm; 0 for a clean one),
-/// which sets how far each break's time is uncertain.
-pub fn adequacy(f: &FitResult, segments: &[Segment], load_point_sigma_um: f64) -> Adequacy {
+/// which sets how far each break's time is uncertain, and the fit's own uncertainty `effect`
+/// (`sensitivity.rs`; evaluated only when the record has a step to test the levels of; without
+/// it the level test does not run).
+pub fn adequacy(
+    f: &FitResult,
+    segments: &[Segment],
+    load_point_sigma_um: f64,
+    effect: &dyn Fn() -> Option<FitEffect>,
+) -> Adequacy {
+    let levels = level_test(f, segments, effect);
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let rate = model_rate(&c.time, &c.model);
@@ -414,6 +435,7 @@ pub fn adequacy(f: &FitResult, segments: &[Segment], load_point_sigma_um: f64) -
             windows: tested.len(),
             events_total: events.len(),
             events: vec![],
+            levels,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -453,9 +475,7 @@ pub fn adequacy(f: &FitResult, segments: &[Segment], load_point_sigma_um: f64) -
     // the typical window's: the geometric mean over the windows of Q over its placebos' typical Q
     let excess = (ln_excess / n).exp();
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
-    let inadequate = (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
-        || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE);
-    let verdict = if inadequate { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
         verdict,
         excess,
@@ -465,6 +485,7 @@ pub fn adequacy(f: &FitResult, segments: &[Segment], load_point_sigma_um: f64) -
         windows: tested.len(),
         events_total: events.len(),
         events: per_event,
+        levels,
     }
 }
 

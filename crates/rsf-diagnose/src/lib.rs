@@ -24,7 +24,8 @@
 //! 7. The model named (the baseline for `none`) must explain the record to its noise level
 //!    where the protocol's events are (`adequacy.rs`: event windows against placebo windows of
 //!    the same length); when it does not, the verdict is `unexplained`, with the best partial
-//!    extension and where the misfit sits.
+//!    extension and where the misfit sits. Beside it, not part of the verdict yet, whether it
+//!    puts each segment at its level (`levels.rs`).
 //!
 //! Independent fits run in parallel on all cores.
 
@@ -41,6 +42,8 @@
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `adequacy.rs` | whether the model named explains the events to the noise level (else `unexplained`) |
+//! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (reported, not in the verdict) |
+//! | `sensitivity.rs` | the named fit's own uncertainty as changes of its model, for the level test's null |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
 //! | `result.rs` | [`Diagnosis`], [`Candidate`], [`Evidence`] and the rest of the output |
 
@@ -51,10 +54,12 @@ mod decide;
 pub mod events;
 mod evidence;
 mod heldout;
+mod levels;
 mod null;
 mod reconstruction;
 mod result;
 mod run;
+mod sensitivity;
 mod starts;
 mod timing;
 
@@ -66,8 +71,10 @@ pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
+pub use levels::{LevelMisfit, LevelTest, level_test};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
+pub use sensitivity::{FitEffect, fit_effect};
 
 pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,

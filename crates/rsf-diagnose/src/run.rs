@@ -379,7 +379,15 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the adequacy of the model named (with its second cause), or of the baseline for `none`:
     // a cause is named only when its model explains the events to the noise level
     let named_fit = secondary.as_ref().map(|s| &s.fit).or(chosen.and_then(|c| c.fit.as_ref())).unwrap_or(&ctx.base);
-    let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma);
+    // the fit's own uncertainty, for the level test's null (not for a combination of two
+    // causes, whose options are not kept)
+    let named_opts = match (&secondary, chosen) {
+        (Some(_), _) => None,
+        (None, Some(c)) => c.options.as_ref(),
+        (None, None) => Some(&ctx.base_opts),
+    };
+    let effect = || named_opts.and_then(|o| super::sensitivity::fit_effect(ctx.rec, ctx.segs, o, named_fit));
+    let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, &effect);
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;
     // a cut-off and a share of time-dependent healing both strengthen long holds: when the
