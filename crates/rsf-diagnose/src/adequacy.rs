@@ -352,15 +352,18 @@ type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
 /// The adequacy of the fit `f` on the record's `segments` (those the fit used), with the
 /// load point's noise about the protocol's lines `load_point_sigma_um` (µm; 0 for a clean one),
 /// which sets how far each break's time is uncertain, and the fit's own uncertainty `effect`
-/// (`sensitivity.rs`; evaluated only when the record has a step to test the levels of; without
-/// it the level test does not run).
+/// (`sensitivity.rs`; evaluated only when the record has a step to test the levels of). With
+/// `effect` `None` the level test does not run (a candidate's excess needs only the event test).
 pub fn adequacy(
     f: &FitResult,
     segments: &[Segment],
     load_point_sigma_um: f64,
-    effect: &dyn Fn() -> Option<FitEffect>,
+    effect: Option<&dyn Fn() -> Option<FitEffect>>,
 ) -> Adequacy {
-    let levels = level_test(f, segments, effect);
+    let levels = match effect {
+        Some(e) => level_test(f, segments, e),
+        None => LevelTest { p_value: f64::NAN, excess: f64::NAN, steps: vec![] },
+    };
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let rate = model_rate(&c.time, &c.model);

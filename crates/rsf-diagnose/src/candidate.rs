@@ -266,7 +266,7 @@ impl Ctx<'_> {
             effect: effect_of(&[cause], &f),
             equally_good_laws: alike,
             alternatives: others,
-            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, &|| None).excess,
+            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, None).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
             at_bound,
