@@ -164,8 +164,9 @@ pub struct Adequacy {
     /// Each tested window, worst first.
     pub events: Vec<EventMisfit>,
     /// The level test (`levels.rs`): each step's change of level against its placebos and the
-    /// fit's own uncertainty. Reported beside the verdict, not part of it: its null is still
-    /// too narrow on records with nothing hidden (docs/diagnose/detection.md).
+    /// fit's own uncertainty. Reported beside the verdict, not part of it: its null was settled
+    /// on the study sets, so its false-alarm rate is yet to be measured on sets it was not
+    /// shaped on (docs/diagnose/detection.md).
     pub levels: LevelTest,
 }
 
@@ -213,9 +214,9 @@ impl Adequacy {
     }
 }
 
-/// The rule of both tests: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
+/// The event test's rule: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
 /// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`].
-pub(super) fn misfit(p_value: f64, excess: f64) -> bool {
+fn misfit(p_value: f64, excess: f64) -> bool {
     (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
         || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE)
 }

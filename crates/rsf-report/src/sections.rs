@@ -363,8 +363,8 @@ fn levels(d: &Diagnosis) -> String {
         fmt_num(l.p_value, 2),
         if l.inadequate() {
             "Some segments may sit at the wrong level — a misfit the event windows, which take their own mean out, \
-             cannot see — but this test also passes records with nothing hidden at p < 0.01 more often than 1% of \
-             the time, so it names nothing."
+             cannot see — but this test's false-alarm rate is still to be measured on records it was not shaped \
+             on, so it names nothing yet."
         } else {
             "Each segment sits at its level to the noise."
         }
