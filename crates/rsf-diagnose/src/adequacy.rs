@@ -346,6 +346,27 @@ fn model_rate(time: &[f64], model: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Where a placebo may lie: inside a sliding segment, after its own transient of
+/// [`WINDOW_DC`] times `dc_max` (µm) of slip (no event inside it, and none of an event's
+/// transient), as (start, end) in s.
+pub(super) fn quiet_stretches(segments: &[Segment], dc_max: f64) -> Vec<(f64, f64)> {
+    segments
+        .iter()
+        .filter(|s| s.v > 0.0)
+        .map(|s| (s.t0 + (WINDOW_DC * dc_max / s.v).min(s.t1 - s.t0), s.t1))
+        .filter(|q| q.1 > q.0)
+        .collect()
+}
+
+/// At most [`PLACEBOS`] of `starts`, spread evenly over them.
+pub(super) fn evenly<T: Copy>(starts: Vec<T>) -> Vec<T> {
+    if starts.len() <= PLACEBOS {
+        return starts;
+    }
+    let n = starts.len();
+    (0..PLACEBOS).map(|i| starts[i * n / PLACEBOS]).collect()
+}
+
 /// A tested event window: its segment index, start, what happened, length, Q, and its
 /// placebos' Q.
 type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
@@ -382,10 +403,7 @@ pub fn adequacy(
         let uncertainty = TIMING_SIGMAS * load_point_sigma_um / (s.v - segments[j - 1].v).abs();
         events.push((j, s.t0, window_of(s), if reslide { "reslide" } else { "step" }, uncertainty));
     }
-    // where a placebo may lie: inside a sliding segment, after its own transient (no event
-    // inside it, and none of an event's transient)
-    let quiet: Vec<(f64, f64)> =
-        segments.iter().filter(|s| s.v > 0.0).map(|s| (s.t0 + window_of(s), s.t1)).filter(|q| q.1 > q.0).collect();
+    let quiet = quiet_stretches(segments, dc_max);
     // an event window's placebos: disjoint windows of its length tiling the quiet stretches
     // (disjoint, so that each is a comparison of its own), at most PLACEBOS of them spread
     // evenly over all the tiles
@@ -395,11 +413,7 @@ pub fn adequacy(
             let n = ((b - a) / len).floor() as usize;
             starts.extend((0..n).map(|i| (a + i as f64 * len, b)));
         }
-        if starts.len() > PLACEBOS {
-            let n = starts.len();
-            starts = (0..PLACEBOS).map(|i| starts[i * n / PLACEBOS]).collect();
-        }
-        starts
+        evenly(starts)
     };
     let mut tested: Vec<Tested> = vec![];
     for &(j, t0, len, what, uncertainty) in &events {

@@ -45,7 +45,9 @@
 //! sliding segments are tested (a reslide's level after a hold is healing, which the event test
 //! judges).
 
-use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, MIN_WINDOW_SAMPLES, PLACEBOS, WINDOW_DC};
+#[cfg(doc)]
+use super::adequacy::PLACEBOS;
+use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, MIN_WINDOW_SAMPLES, evenly, quiet_stretches};
 #[cfg(doc)]
 use super::adequacy::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE};
 use super::sensitivity::FitEffect;
@@ -166,9 +168,7 @@ fn window_mean(time: &[f64], res: &[f64], t0: f64, len: f64) -> Option<f64> {
 /// [`MIN_PLACEBOS`] placebos, worst first.
 /// `res` are the residuals at `time`; `dc_max` (µm) sets each segment's transient.
 fn level_steps(time: &[f64], res: &[f64], dc_max: f64, segments: &[Segment]) -> Vec<LevelMisfit> {
-    let window_of = |s: &Segment| (WINDOW_DC * dc_max / s.v).min(s.t1 - s.t0);
-    let quiet: Vec<(f64, f64)> =
-        segments.iter().filter(|s| s.v > 0.0).map(|s| (s.t0 + window_of(s), s.t1)).filter(|q| q.1 > q.0).collect();
+    let quiet = quiet_stretches(segments, dc_max);
     let normal = statrs::distribution::Normal::standard();
     let mut out = vec![];
     for (j, pair) in segments.windows(2).enumerate() {
@@ -194,11 +194,7 @@ fn level_steps(time: &[f64], res: &[f64], dc_max: f64, segments: &[Segment]) -> 
                     starts.extend((0..n as usize).map(|i| a + i as f64 * (span + len)));
                 }
             }
-            if starts.len() > PLACEBOS {
-                let n = starts.len();
-                starts = (0..PLACEBOS).map(|i| starts[i * n / PLACEBOS]).collect();
-            }
-            starts
+            evenly(starts)
                 .iter()
                 .filter_map(|&u| Some(window_mean(time, res, u + span, len)? - window_mean(time, res, u, len)?))
                 .collect()

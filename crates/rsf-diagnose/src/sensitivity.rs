@@ -12,7 +12,7 @@
 //! from the same model changes.
 
 use rsf_fit::data::Record;
-use rsf_fit::fit::{FitOptions, FitResult, model_curve, parameter_map, prepare};
+use rsf_fit::fit::{FitOptions, FitResult, covariance_under, model_curve, parameter_map, prepare};
 use rsf_fit::segment::Segment;
 
 /// The model's change (at the fit's samples) for a step in each free parameter, and the
@@ -59,18 +59,11 @@ pub fn fit_effect(rec: &Record, segs: &[Segment], o: &FitOptions, f: &FitResult)
         }
         changes.push(change);
     }
-    // J in units of the steps: the changes themselves; the sandwich under the residuals' noise
+    // J in units of the steps (the changes themselves, row-major), and the sandwich of the
+    // least squares the diagnosis ran (uniform weights) under the residuals' noise
     let n = base.len();
-    let jm = nalgebra::DMatrix::from_fn(n, m, |r, i| changes[i][r]);
-    let h = (jm.transpose() * &jm).pseudo_inverse(1e-12).ok()?;
+    let jac: Vec<f64> = (0..n * m).map(|k| changes[k % m][k / m]).collect();
     let noise = super::evidence::noisy(f).model;
-    let ones = vec![1.0; n];
-    let sj: Vec<Vec<f64>> = changes.iter().map(|col| noise.covariance_times(&f.curve.time, &ones, col)).collect();
-    let s = nalgebra::DMatrix::from_fn(m, m, |a, b| {
-        let x: f64 = changes[a].iter().zip(&sj[b]).map(|(p, q)| p * q).sum();
-        let y: f64 = changes[b].iter().zip(&sj[a]).map(|(p, q)| p * q).sum();
-        0.5 * (x + y)
-    });
-    let c = &h * s * &h;
+    let c = covariance_under(&jac, &vec![1.0; n], None, &f.curve.time, m, &noise);
     Some(FitEffect { changes, cov: c.transpose().as_slice().to_vec() })
 }

@@ -31,7 +31,7 @@ pub(super) fn covariance(raw_j: &[f64], weights: &[f64], counts: Option<&[u32]>,
 /// column in O(n) each; a bin mean of c samples has the white part σ²/c, its correlated parts
 /// are read at the bin's mean time). The estimator is the weighted least squares the fit ran;
 /// only the noise it is judged under changes.
-pub(super) fn covariance_under(
+pub fn covariance_under(
     raw_j: &[f64],
     weights: &[f64],
     counts: Option<&[u32]>,

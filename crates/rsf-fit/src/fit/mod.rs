@@ -28,6 +28,7 @@ mod prepare;
 mod result;
 
 pub use bins::{BIN_ABOVE, BIN_FRACTION, BinMeans, Binning};
+pub use covariance::covariance_under;
 pub use forward::{Prediction, model_curve, predict, record_span};
 pub use lsq::fit;
 pub use options::{
