@@ -359,14 +359,22 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     }
     let l = &d.adequacy.levels;
     out += &format!(
-        "adequacy: {} (excess {:.2}, p {:.3}, {} of {} events tested{})\n",
+        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{})\n",
         d.adequacy.verdict.as_str(),
+        d.adequacy.event_verdict.as_str(),
         d.adequacy.excess,
         d.adequacy.p_value,
         d.adequacy.windows,
         d.adequacy.events_total,
         if l.p_value.is_finite() {
-            format!("; levels across {} steps: excess {:.2}, p {:.3}", l.steps.len(), l.excess, l.p_value)
+            format!(
+                "; levels {} across {} step{}: excess {:.2}, p {}",
+                if l.inadequate() { "off" } else { "fit" },
+                l.steps.len(),
+                if l.steps.len() == 1 { "" } else { "s" },
+                l.excess,
+                rsf_diagnose::p_words(l.p_value)
+            )
         } else {
             String::new()
         }

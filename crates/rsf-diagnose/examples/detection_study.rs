@@ -101,6 +101,7 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["found"] = json!(d.cause.as_str());
             r["partial"] = json!(d.partial.map(|c| c.as_str()));
             r["adequacy"] = json!(d.adequacy.verdict.as_str());
+            r["event_adequacy"] = json!(d.adequacy.event_verdict.as_str());
             r["adequacy_excess"] = json!(d.adequacy.excess);
             r["adequacy_p"] = json!(d.adequacy.p_value);
             r["adequacy_windows"] = json!(d.adequacy.windows);

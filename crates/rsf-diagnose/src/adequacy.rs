@@ -34,12 +34,18 @@
 //! scores are summed (Stouffer) into one p. The excess is the geometric mean over the windows of
 //! Q over its placebos' typical (geometric-mean) Q: 1 for noise alone.
 //!
-//! **Verdict.** Inadequate when p < [`ADEQUACY_LEVEL`] *and* the excess is above
-//! [`ADEQUACY_EXCESS`] (significant, and as large as the noise itself), or when p <
+//! **Verdict of the event test.** Inadequate when p < [`ADEQUACY_LEVEL`] *and* the excess is
+//! above [`ADEQUACY_EXCESS`] (significant, and as large as the noise itself), or when p <
 //! [`ADEQUACY_LEVEL_LARGE`] and the excess is above [`ADEQUACY_EXCESS_LARGE`] (a misfit twice
 //! the noise in rms needs less significance). Untestable when no
 //! event window has its placebos (steps too close together for a quiet stretch of sliding as
 //! long as a transient).
+//!
+//! **The model's verdict** ([`Adequacy::verdict`]) takes the level test (`levels.rs`) too: the
+//! event windows' mean is taken out, so a model that puts whole segments at the wrong level
+//! passes them; the level test sees that. Inadequate when either test finds misfit; otherwise
+//! the event test's verdict (a record whose events cannot be tested stays untestable even when
+//! its levels fit: the shape of its transients is not judged).
 
 use super::levels::{LevelTest, level_test};
 use super::sensitivity::FitEffect;
@@ -144,8 +150,11 @@ pub struct EventMisfit {
 /// The adequacy of one fitted model.
 #[derive(Clone, Debug, Serialize)]
 pub struct Adequacy {
-    /// The verdict.
+    /// The verdict: inadequate when the event test or the level test finds misfit beyond the
+    /// noise, else the event test's ([`Adequacy::event_verdict`]).
     pub verdict: AdequacyVerdict,
+    /// The event test's verdict alone (the fields below down to `events` are the event test's).
+    pub event_verdict: AdequacyVerdict,
     /// T over the median placebo T: 1 for noise alone; the event-locked misfit's variance
     /// over the noise's, plus one.
     pub excess: f64,
@@ -164,9 +173,7 @@ pub struct Adequacy {
     /// Each tested window, worst first.
     pub events: Vec<EventMisfit>,
     /// The level test (`levels.rs`): each step's change of level against its placebos and the
-    /// fit's own uncertainty. Reported beside the verdict, not part of it: its null was settled
-    /// on the study sets, so its false-alarm rate is yet to be measured on sets it was not
-    /// shaped on (docs/diagnose/detection.md).
+    /// fit's own uncertainty; part of the verdict.
     pub levels: LevelTest,
 }
 
@@ -180,12 +187,25 @@ impl Adequacy {
         }
     }
 
-    /// The verdict in words, for the diagnosis's reason.
+    /// The verdict in words, for the diagnosis's reason: the event test's, and the level
+    /// test's when it ran.
     pub fn words(&self) -> String {
-        match self.verdict {
+        let levels = self.levels.words();
+        match (self.event_verdict, levels) {
+            (AdequacyVerdict::Inadequate, Some(l)) if self.levels.inadequate() => {
+                format!("{}; and {l}", self.event_words())
+            }
+            (_, Some(l)) if self.levels.inadequate() => format!("{l}; {}", self.event_words()),
+            (_, Some(l)) => format!("{}; {l}", self.event_words()),
+            (_, None) => self.event_words(),
+        }
+    }
+
+    /// The event test's verdict in words.
+    fn event_words(&self) -> String {
+        match self.event_verdict {
             AdequacyVerdict::Untestable => {
-                "its adequacy could not be tested (too few events with a quiet stretch as long as their transient)"
-                    .into()
+                "its events could not be tested (too few with a quiet stretch as long as their transient)".into()
             }
             AdequacyVerdict::Adequate => format!(
                 "it explains the events to the noise level (event-locked misfit {:.2}× the noise's variance, p = {:.2}{})",
@@ -212,6 +232,12 @@ impl Adequacy {
             }
         }
     }
+}
+
+/// The model's verdict from the event test's and the level test: inadequate when the levels
+/// are off ([`LevelTest::inadequate`]), else the event test's.
+fn with_levels(events: AdequacyVerdict, levels: &LevelTest) -> AdequacyVerdict {
+    if levels.inadequate() { AdequacyVerdict::Inadequate } else { events }
 }
 
 /// The event test's rule: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
@@ -383,7 +409,7 @@ pub fn adequacy(
     effect: Option<&dyn Fn() -> Option<FitEffect>>,
 ) -> Adequacy {
     let levels = match effect {
-        Some(e) => level_test(f, segments, e),
+        Some(e) => level_test(f, segments, load_point_sigma_um, e),
         None => LevelTest { p_value: f64::NAN, excess: f64::NAN, steps: vec![] },
     };
     let c = &f.curve;
@@ -445,7 +471,8 @@ pub fn adequacy(
     }
     if tested.len() < MIN_WINDOWS {
         return Adequacy {
-            verdict: AdequacyVerdict::Untestable,
+            verdict: with_levels(AdequacyVerdict::Untestable, &levels),
+            event_verdict: AdequacyVerdict::Untestable,
             excess: f64::NAN,
             p_value: f64::NAN,
             event_rms: f64::NAN,
@@ -493,9 +520,10 @@ pub fn adequacy(
     // the typical window's: the geometric mean over the windows of Q over its placebos' typical Q
     let excess = (ln_excess / n).exp();
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
-    let verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let event_verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
-        verdict,
+        verdict: with_levels(event_verdict, &levels),
+        event_verdict,
         excess,
         p_value,
         event_rms: (t_real / n).sqrt(),

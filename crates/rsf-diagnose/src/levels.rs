@@ -33,17 +33,24 @@
 //! anywhere in a sliding segment after its first L seconds: a model's slow misfit inside a
 //! transient moves such a placebo too, which makes the test conservative, not wrong.
 //!
-//! **Not part of the verdict yet.** The levels look off when p < [`ADEQUACY_LEVEL`] and the
-//! excess is above [`ADEQUACY_EXCESS`] ([`LevelTest::inadequate`]), and the diagnosis reports
-//! the test (JSON `adequacy.levels`, the CLI's `adequacy:` line, the report's table) without
-//! letting it change the verdict. Measured (docs/diagnose/detection.md): 1 of the 68 records
-//! with nothing hidden in the 111-record and 1/f sets looks off (p = 0.003), and 9 of the 12
-//! rate-dependent-a records of the `--outside` set, among them 2 of the 3 wrong causes the event
-//! test passed, and no record named with its true law. Its design was settled on those same
-//! sets (four versions of its null were tried on them), so its false-alarm rate is to be
-//! measured on sets it was not shaped on before it decides anything. Only steps between two
-//! sliding segments are tested (a reslide's level after a hold is healing, which the event test
-//! judges).
+//! **Part of the verdict.** The levels are off when p < [`ADEQUACY_LEVEL`] and the excess is
+//! above [`ADEQUACY_EXCESS`] ([`LevelTest::inadequate`]), and then the model is inadequate
+//! whatever its event windows say (`adequacy.rs`). Only steps between two sliding segments are
+//! tested (a reslide's level after a hold is healing, which the event test judges).
+//!
+//! **Its false-alarm rate, measured on sets it was not shaped on** (docs/diagnose/detection.md):
+//! on fresh seeds of the generator (seed 2 of the 111-record set, seed 23 of the 1/f set), the
+//! levels of 1 of the 67 records with nothing hidden are off (p = 0.0076), and its p falls
+//! below 0.05 on 3 of them and below 0.25 on 17: at its level. Among the records whose truth is
+//! outside the menu it takes the confident wrong causes from 8 to 3 with the law file
+//! registered (seeds 38 and 39) and from 20 to 13 without it.
+//!
+//! **Two allowances for the load point's noise.** A break read a fraction of a second off
+//! misplaces the transient after it: the samples each break's timing cannot predict for this
+//! model (`timing::unpredictable`, with the named model's own rate) are left out of every
+//! window. And a slow segment's velocity, read from the load point, moves the model's level
+//! there: the fit's effect carries one change per uncertain velocity (`sensitivity.rs`), added
+//! to the null as the parameters' are.
 
 #[cfg(doc)]
 use super::adequacy::PLACEBOS;
@@ -51,6 +58,7 @@ use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, MIN_WINDOW_
 #[cfg(doc)]
 use super::adequacy::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE};
 use super::sensitivity::FitEffect;
+use super::timing::unpredictable;
 use rsf_fit::fit::FitResult;
 use rsf_fit::segment::Segment;
 use serde::Serialize;
@@ -101,20 +109,71 @@ impl LevelTest {
     pub fn inadequate(&self) -> bool {
         self.p_value < ADEQUACY_LEVEL && self.excess > ADEQUACY_EXCESS
     }
+
+    /// The test in words, for the diagnosis's reason (`None` when no step was tested).
+    pub fn words(&self) -> Option<String> {
+        if !self.p_value.is_finite() {
+            return None;
+        }
+        let n = self.steps.len();
+        let steps = if n == 1 { "1 step".to_string() } else { format!("{n} steps") };
+        Some(match self.steps.first().filter(|_| self.inadequate()) {
+            Some(w) => format!(
+                "it puts segments at the wrong level: across {steps} the change of level is {:.2}× the noise's and \
+                 the fit's own uncertainty in variance (p = {}), worst the step at t = {:.0} s into segment {} \
+                 ({:+.1e}, {:.1}× its noise band)",
+                self.excess,
+                p_words(self.p_value),
+                w.t,
+                w.segment,
+                w.offset,
+                w.offset.abs() / w.noise
+            ),
+            None => format!(
+                "its levels across {steps} fit to the noise (excess {:.2}, p = {})",
+                self.excess,
+                p_words(self.p_value)
+            ),
+        })
+    }
+}
+
+/// A p-value in two significant figures (`0.0096`, `3.2e-5`, `0.24`): a p near the test's
+/// level is not rounded across it.
+pub fn p_words(p: f64) -> String {
+    if p >= 0.01 {
+        format!("{p:.2}")
+    } else if p >= 0.001 {
+        format!("{p:.4}")
+    } else {
+        format!("{p:.1e}")
+    }
 }
 
 /// The level test of the fit `f` on the record's `segments` (those the fit used), with the
-/// fit's own uncertainty `effect` (evaluated only when there is a step to test; no test
-/// without it).
-pub fn level_test(f: &FitResult, segments: &[Segment], effect: &dyn Fn() -> Option<FitEffect>) -> LevelTest {
+/// load point's noise `load_point_sigma_um` (µm; 0 for a clean one) about the protocol's lines
+/// and the fit's own uncertainty `effect` (evaluated only when there is a step to test; no test
+/// without it). The samples near a break that its timing cannot predict for this model
+/// (`timing::unpredictable`, with the model's own rate: a law whose transient is sharper than
+/// the baseline's has more of them than the fit left out) are left out of every window: a break
+/// read a fraction of a second off misplaces the transient, a misfit of timing that the event
+/// test takes out with its break shifts and that is not a level.
+pub fn level_test(
+    f: &FitResult,
+    segments: &[Segment],
+    load_point_sigma_um: f64,
+    effect: &dyn Fn() -> Option<FitEffect>,
+) -> LevelTest {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     let dc_max = f.params.dc.iter().copied().fold(0.0f64, f64::max);
-    let steps = level_steps(&c.time, &res, dc_max, segments);
+    let (out, _) = unpredictable(&c.time, &c.model, segments, load_point_sigma_um, f.rms);
+    let used: Vec<bool> = c.time.iter().map(|t| !out.iter().any(|&(a, b)| (a..=b).contains(t))).collect();
+    let steps = level_steps(&c.time, &used, &res, dc_max, segments);
     let (p_value, excess) = if steps.is_empty() {
         (f64::NAN, f64::NAN)
     } else {
-        effect().and_then(|e| chi2_with_fit(&c.time, &steps, &e)).unwrap_or((f64::NAN, f64::NAN))
+        effect().and_then(|e| chi2_with_fit(&c.time, &used, &steps, &e)).unwrap_or((f64::NAN, f64::NAN))
     };
     LevelTest { p_value, excess, steps }
 }
@@ -123,7 +182,7 @@ pub fn level_test(f: &FitResult, segments: &[Segment], effect: &dyn Fn() -> Opti
 /// parameter's step makes, over each step's noise band, and C the parameters' covariance in
 /// units of those steps: its p (one degree of freedom per step) and its mean (the excess).
 /// `None` with no step.
-fn chi2_with_fit(time: &[f64], steps: &[LevelMisfit], e: &FitEffect) -> Option<(f64, f64)> {
+fn chi2_with_fit(time: &[f64], used: &[bool], steps: &[LevelMisfit], e: &FitEffect) -> Option<(f64, f64)> {
     let n = steps.len();
     let m = e.changes.len();
     if n == 0 || e.cov.len() != m * m {
@@ -131,32 +190,38 @@ fn chi2_with_fit(time: &[f64], steps: &[LevelMisfit], e: &FitEffect) -> Option<(
     }
     let g = nalgebra::DMatrix::from_fn(n, m, |k, i| {
         let (before, after, len) = steps[k].windows;
-        let change = |t0| window_mean(time, &e.changes[i], t0, len).unwrap_or(0.0);
+        let change = |t0| window_mean(time, used, &e.changes[i], t0, len).unwrap_or(0.0);
         // the residual moves opposite to the model
         -(change(after) - change(before)) / steps[k].noise
     });
     let r = nalgebra::DMatrix::from_row_slice(m, m, &e.cov);
-    let sigma = nalgebra::DMatrix::identity(n, n) + &g * &r * g.transpose();
+    // the protocol's uncertain velocities, each independent and of unit variance in its column
+    let h = nalgebra::DMatrix::from_fn(n, e.velocities.len(), |k, j| {
+        let (before, after, len) = steps[k].windows;
+        let change = |t0| window_mean(time, used, &e.velocities[j], t0, len).unwrap_or(0.0);
+        -(change(after) - change(before)) / steps[k].noise
+    });
+    let sigma = nalgebra::DMatrix::identity(n, n) + &g * &r * g.transpose() + &h * h.transpose();
     let z = nalgebra::DVector::from_iterator(n, steps.iter().map(|x| x.z));
     let chi2 = z.dot(&sigma.cholesky()?.solve(&z));
     let dist = statrs::distribution::ChiSquared::new(n as f64).ok()?;
     Some((1.0 - statrs::distribution::ContinuousCDF::cdf(&dist, chi2.max(0.0)), chi2 / n as f64))
 }
 
-/// The time-weighted mean residual over [t0, t0 + len) (each sample weighted by half the
-/// interval to its neighbours inside the window), when the window holds at least
-/// [`MIN_WINDOW_SAMPLES`]. Weighted by time, not by sample, so that a burst of dense sampling
+/// The time-weighted mean residual over [t0, t0 + len) of the samples `used` (each weighted by
+/// half the interval to its neighbours inside the window), when the window holds at least
+/// [`MIN_WINDOW_SAMPLES`] of them. Weighted by time, not by sample, so that a burst of dense sampling
 /// after a change of velocity (a lab's 100 Hz for the first seconds) does not make a window's
 /// mean an average over those seconds only: slow noise then moves it as much as it moves a
 /// placebo's, sampled evenly.
-fn window_mean(time: &[f64], res: &[f64], t0: f64, len: f64) -> Option<f64> {
+fn window_mean(time: &[f64], used: &[bool], res: &[f64], t0: f64, len: f64) -> Option<f64> {
     let i0 = time.partition_point(|&t| t < t0);
     let i1 = time.partition_point(|&t| t < t0 + len);
-    if i1 - i0 < MIN_WINDOW_SAMPLES {
+    if used[i0..i1].iter().filter(|u| **u).count() < MIN_WINDOW_SAMPLES {
         return None;
     }
     let (mut sum, mut weight) = (0.0, 0.0);
-    for i in i0..i1 {
+    for i in (i0..i1).filter(|&i| used[i]) {
         let w = 0.5 * (time[(i + 1).min(i1 - 1)] - time[i.saturating_sub(1).max(i0)]);
         sum += w * res[i];
         weight += w;
@@ -166,8 +231,9 @@ fn window_mean(time: &[f64], res: &[f64], t0: f64, len: f64) -> Option<f64> {
 
 /// Each step's change of level against its placebos: the steps with at least
 /// [`MIN_PLACEBOS`] placebos, worst first.
-/// `res` are the residuals at `time`; `dc_max` (µm) sets each segment's transient.
-fn level_steps(time: &[f64], res: &[f64], dc_max: f64, segments: &[Segment]) -> Vec<LevelMisfit> {
+/// `res` are the residuals at `time` (only those `used` count); `dc_max` (µm) sets each
+/// segment's transient.
+fn level_steps(time: &[f64], used: &[bool], res: &[f64], dc_max: f64, segments: &[Segment]) -> Vec<LevelMisfit> {
     let quiet = quiet_stretches(segments, dc_max);
     let normal = statrs::distribution::Normal::standard();
     let mut out = vec![];
@@ -179,7 +245,7 @@ fn level_steps(time: &[f64], res: &[f64], dc_max: f64, segments: &[Segment]) -> 
         let span = s.t1 - s.t0;
         let len = span.min(prev.t1 - prev.t0);
         let (Some(before), Some(after)) =
-            (window_mean(time, res, prev.t1 - len, len), window_mean(time, res, s.t1 - len, len))
+            (window_mean(time, used, res, prev.t1 - len, len), window_mean(time, used, res, s.t1 - len, len))
         else {
             continue;
         };
@@ -196,7 +262,9 @@ fn level_steps(time: &[f64], res: &[f64], dc_max: f64, segments: &[Segment]) -> 
             }
             evenly(starts)
                 .iter()
-                .filter_map(|&u| Some(window_mean(time, res, u + span, len)? - window_mean(time, res, u, len)?))
+                .filter_map(|&u| {
+                    Some(window_mean(time, used, res, u + span, len)? - window_mean(time, used, res, u, len)?)
+                })
                 .collect()
         };
         let mut placebo = pairs(&quiet);
@@ -289,13 +357,14 @@ mod tests {
     /// The level test of residuals `res`, the fit's uncertainty being one parameter that moves
     /// the model by `change` (none when empty).
     fn test_of(time: &[f64], res: &[f64], segments: &[Segment], change: Vec<f64>) -> LevelTest {
-        let steps = level_steps(time, res, 5.0, segments);
+        let used = vec![true; time.len()];
+        let steps = level_steps(time, &used, res, 5.0, segments);
         let effect = if change.is_empty() {
-            FitEffect { changes: vec![], cov: vec![] }
+            FitEffect { changes: vec![], cov: vec![], velocities: vec![] }
         } else {
-            FitEffect { changes: vec![change], cov: vec![1.0] }
+            FitEffect { changes: vec![change], cov: vec![1.0], velocities: vec![] }
         };
-        let (p_value, excess) = chi2_with_fit(time, &steps, &effect).unwrap();
+        let (p_value, excess) = chi2_with_fit(time, &used, &steps, &effect).unwrap();
         LevelTest { p_value, excess, steps }
     }
 

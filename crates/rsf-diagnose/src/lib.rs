@@ -24,8 +24,8 @@
 //! 7. The model named (the baseline for `none`) must explain the record to its noise level
 //!    where the protocol's events are (`adequacy.rs`: event windows against placebo windows of
 //!    the same length); when it does not, the verdict is `unexplained`, with the best partial
-//!    extension and where the misfit sits. Beside it, not part of the verdict yet, whether it
-//!    puts each segment at its level (`levels.rs`).
+//!    extension and where the misfit sits; likewise when it puts segments at the wrong level
+//!    across the steps (`levels.rs`).
 //!
 //! Independent fits run in parallel on all cores.
 
@@ -42,7 +42,7 @@
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `adequacy.rs` | whether the model named explains the events to the noise level (else `unexplained`) |
-//! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (reported, not in the verdict) |
+//! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (part of the adequacy verdict) |
 //! | `sensitivity.rs` | the named fit's own uncertainty as changes of its model, for the level test's null |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
 //! | `result.rs` | [`Diagnosis`], [`Candidate`], [`Evidence`] and the rest of the output |
@@ -71,7 +71,7 @@ pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
-pub use levels::{LevelMisfit, LevelTest, level_test};
+pub use levels::{LevelMisfit, LevelTest, level_test, p_words};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use sensitivity::{FitEffect, fit_effect};

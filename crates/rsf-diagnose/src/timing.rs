@@ -11,6 +11,7 @@
 //! clean load point σ_x is round-off and nothing is left out.
 
 use rsf_fit::fit::{FitResult, Prepared};
+use rsf_fit::segment::Segment;
 use serde::Serialize;
 
 /// Break-time errors are taken this many standard deviations wide.
@@ -48,20 +49,38 @@ pub(super) fn load_point_sigma(p: &Prepared) -> f64 {
 pub(super) fn timing_mask(p: &Prepared, base: &FitResult) -> Option<TimingMask> {
     let sx = load_point_sigma(p);
     let c = &base.curve;
-    let n = c.time.len();
-    if !(sx > 0.0) || n < 3 {
+    if !(sx > 0.0) || c.time.len() < 3 {
         return None;
+    }
+    let (windows, samples) = unpredictable(&c.time, &c.model, &p.segments, sx, base.rms);
+    (samples > 0).then_some(TimingMask { load_point_sigma_um: sx, windows, samples })
+}
+
+/// The samples of a model `model` at `time` that the breaks' timing cannot predict, with the
+/// load point's noise `sx` (µm) about the lines of `segments` and the friction noise `noise`:
+/// near each break, from [`TIMING_SIGMAS`] × σ_x/|Δv| before it, while that timing error would
+/// move the model by more than the noise. The time windows (inclusive) and their samples.
+pub(super) fn unpredictable(
+    time: &[f64],
+    model: &[f64],
+    segments: &[Segment],
+    sx: f64,
+    noise: f64,
+) -> (Vec<(f64, f64)>, usize) {
+    let n = time.len();
+    let mut windows: Vec<(f64, f64)> = vec![];
+    let mut samples = 0;
+    if !(sx > 0.0) || n < 3 {
+        return (windows, samples);
     }
     // the model's friction rate at each used sample (centred differences)
     let rate = |k: usize| {
         let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
-        let dt = c.time[b] - c.time[a];
-        if dt > 0.0 { ((c.model[b] - c.model[a]) / dt).abs() } else { 0.0 }
+        let dt = time[b] - time[a];
+        if dt > 0.0 { ((model[b] - model[a]) / dt).abs() } else { 0.0 }
     };
-    let mut windows: Vec<(f64, f64)> = vec![];
-    let mut samples = 0;
-    for j in 1..p.segments.len() {
-        let (s0, s1) = (&p.segments[j - 1], &p.segments[j]);
+    for j in 1..segments.len() {
+        let (s0, s1) = (&segments[j - 1], &segments[j]);
         let dv = (s1.v - s0.v).abs();
         if !(dv > 0.0) {
             continue;
@@ -70,24 +89,24 @@ pub(super) fn timing_mask(p: &Prepared, base: &FitResult) -> Option<TimingMask> 
         // from the last sample before the break's uncertainty onward, while the timing error
         // would misplace the model by more than the noise
         let tb = s1.t0;
-        let first = c.time.partition_point(|&t| t < tb - dt_break);
+        let first = time.partition_point(|&t| t < tb - dt_break);
         // a break whose timing error moves the model by less than the noise anywhere costs
         // nothing (a clean load point: σ_x is round-off)
-        let fast = (first..n).take_while(|&k| c.time[k] <= s1.t1).any(|k| rate(k) * dt_break > base.rms);
+        let fast = (first..n).take_while(|&k| time[k] <= s1.t1).any(|k| rate(k) * dt_break > noise);
         if !fast {
             continue;
         }
         let mut last = None;
         for k in first..n {
-            if c.time[k] > tb + dt_break && rate(k) * dt_break <= base.rms {
+            if time[k] > tb + dt_break && rate(k) * dt_break <= noise {
                 break;
             }
             last = Some(k);
         }
         if let Some(l) = last {
             samples += l + 1 - first;
-            windows.push((c.time[first], c.time[l]));
+            windows.push((time[first], time[l]));
         }
     }
-    (samples > 0).then_some(TimingMask { load_point_sigma_um: sx, windows, samples })
+    (windows, samples)
 }

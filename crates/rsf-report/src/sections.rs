@@ -286,9 +286,9 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
         _ if d.extended.is_some() => format!("the model with {}", cause_words(d.partial.unwrap_or(d.cause))),
         _ => "the baseline".to_string(),
     };
-    let words = match a.verdict {
+    let words = match a.event_verdict {
         rsf_diagnose::AdequacyVerdict::Untestable => format!(
-            "{what} could not be tested: fewer than {} events have a quiet stretch of sliding as long as their \
+            "{what}'s events could not be tested: fewer than {} events have a quiet stretch of sliding as long as their \
              transient ({} Dc of slip) to compare with.",
             rsf_diagnose::MIN_WINDOWS,
             rsf_diagnose::WINDOW_DC
@@ -354,17 +354,15 @@ fn levels(d: &Diagnosis) -> String {
         return String::new();
     }
     let words = format!(
-        "Levels (reported beside the verdict, not part of it yet): across {} steps between sliding segments, the \
-         residual's change of level (the mean over each segment's end, after the step against before it) is {}× \
-         as large in variance as between two windows as far apart where no step is, with the fit's own \
-         uncertainty allowed for (p = {}). {}",
+        "Levels: across {} steps between sliding segments, the residual's change of level (the mean over each \
+         segment's end, after the step against before it) is {}× as large in variance as between two windows as \
+         far apart where no step is, with the fit's own uncertainty allowed for (p = {}). {}",
         l.steps.len(),
         fmt_num(l.excess, 3),
         fmt_num(l.p_value, 2),
         if l.inadequate() {
-            "Some segments may sit at the wrong level — a misfit the event windows, which take their own mean out, \
-             cannot see — but this test's false-alarm rate is still to be measured on records it was not shaped \
-             on, so it names nothing yet."
+            "Some segments sit at the wrong level — a misfit the event windows, which take their own mean out, \
+             cannot see — so the model does not explain the record, whatever its events say."
         } else {
             "Each segment sits at its level to the noise."
         }
