@@ -188,19 +188,19 @@ fn chi2_with_fit(time: &[f64], used: &[bool], steps: &[LevelMisfit], e: &FitEffe
     if n == 0 || e.cov.len() != m * m {
         return None;
     }
-    let g = nalgebra::DMatrix::from_fn(n, m, |k, i| {
-        let (before, after, len) = steps[k].windows;
-        let change = |t0| window_mean(time, used, &e.changes[i], t0, len).unwrap_or(0.0);
-        // the residual moves opposite to the model
-        -(change(after) - change(before)) / steps[k].noise
-    });
+    // each model change's change of level across each step, over the step's noise band (the
+    // residual moves opposite to the model)
+    let levels_of = |curves: &[Vec<f64>]| {
+        nalgebra::DMatrix::from_fn(n, curves.len(), |k, i| {
+            let (before, after, len) = steps[k].windows;
+            let change = |t0| window_mean(time, used, &curves[i], t0, len).unwrap_or(0.0);
+            -(change(after) - change(before)) / steps[k].noise
+        })
+    };
+    let g = levels_of(&e.changes);
     let r = nalgebra::DMatrix::from_row_slice(m, m, &e.cov);
     // the protocol's uncertain velocities, each independent and of unit variance in its column
-    let h = nalgebra::DMatrix::from_fn(n, e.velocities.len(), |k, j| {
-        let (before, after, len) = steps[k].windows;
-        let change = |t0| window_mean(time, used, &e.velocities[j], t0, len).unwrap_or(0.0);
-        -(change(after) - change(before)) / steps[k].noise
-    });
+    let h = levels_of(&e.velocities);
     let sigma = nalgebra::DMatrix::identity(n, n) + &g * &r * g.transpose() + &h * h.transpose();
     let z = nalgebra::DVector::from_iterator(n, steps.iter().map(|x| x.z));
     let chi2 = z.dot(&sigma.cholesky()?.solve(&z));
