@@ -386,7 +386,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         (None, Some(c)) => c.options.as_ref(),
         (None, None) => Some(&ctx.base_opts),
     };
-    let effect = || named_opts.and_then(|o| super::sensitivity::fit_effect(ctx.rec, ctx.segs, o, named_fit));
+    let effect = || {
+        named_opts.and_then(|o| super::sensitivity::fit_effect(ctx.rec, ctx.segs, o, named_fit, ctx.load_point_sigma))
+    };
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect));
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;

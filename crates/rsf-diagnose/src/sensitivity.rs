@@ -20,7 +20,6 @@
 //! velocity is uncertain by more than [`NEGLIGIBLE_VELOCITY_ERROR`] adds the model's change for
 //! one standard error of it, an error independent of the others and of the fit's.
 
-use super::timing::load_point_sigma;
 use rsf_fit::data::Record;
 use rsf_fit::fit::{
     FitOptions, FitResult, LoadingMode, ParamMap, Prepared, covariance_under, model_curve, parameter_map, prepare,
@@ -45,9 +44,16 @@ pub struct FitEffect {
     pub velocities: Vec<Vec<f64>>,
 }
 
-/// The fit effect of `f`, fitted with options `o` on `rec` and `segs`; `None` when the fit has
+/// The fit effect of `f`, fitted with options `o` on `rec` and `segs`, with the load point's
+/// noise `load_point_sigma_um` (µm) about the protocol's lines; `None` when the fit has
 /// no covariance to size its steps, or the model cannot be evaluated at the fit's samples again.
-pub fn fit_effect(rec: &Record, segs: &[Segment], o: &FitOptions, f: &FitResult) -> Option<FitEffect> {
+pub fn fit_effect(
+    rec: &Record,
+    segs: &[Segment],
+    o: &FitOptions,
+    f: &FitResult,
+    load_point_sigma_um: f64,
+) -> Option<FitEffect> {
     let m = f.theta.len();
     if m == 0 || f.cov_theta.len() != m * m {
         return None;
@@ -85,17 +91,23 @@ pub fn fit_effect(rec: &Record, segs: &[Segment], o: &FitOptions, f: &FitResult)
     let noise = super::evidence::noisy(f).model;
     let c = covariance_under(&jac, &vec![1.0; n], None, &f.curve.time, m, &noise);
     let velocities = match o.loading {
-        LoadingMode::Protocol => velocity_changes(&mut p, &map, o, &f.theta, &base),
+        LoadingMode::Protocol => velocity_changes(&mut p, &map, o, &f.theta, &base, load_point_sigma_um),
         LoadingMode::Record => vec![],
     };
     Some(FitEffect { changes, cov: c.transpose().as_slice().to_vec(), velocities })
 }
 
 /// The model's change for one standard error of each sliding segment's velocity (its line
-/// fit's, from the load point's noise about the protocol), for the segments uncertain by more
+/// fit's, from the load point's noise `sx` (µm) about the protocol), for the segments uncertain by more
 /// than [`NEGLIGIBLE_VELOCITY_ERROR`] of their velocity; `base` the model at `theta`.
-fn velocity_changes(p: &mut Prepared, map: &ParamMap, o: &FitOptions, theta: &[f64], base: &[f64]) -> Vec<Vec<f64>> {
-    let sx = load_point_sigma(p);
+fn velocity_changes(
+    p: &mut Prepared,
+    map: &ParamMap,
+    o: &FitOptions,
+    theta: &[f64],
+    base: &[f64],
+    sx: f64,
+) -> Vec<Vec<f64>> {
     if !(sx > 0.0) {
         return vec![];
     }
