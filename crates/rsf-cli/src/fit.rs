@@ -358,14 +358,29 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         out += &format!("best partial extension: {p}\n");
     }
     let l = &d.adequacy.levels;
+    let c = &d.adequacy.coherence;
     out += &format!(
-        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{})\n",
+        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{}{})\n",
         d.adequacy.verdict.as_str(),
         d.adequacy.event_verdict.as_str(),
         d.adequacy.excess,
         d.adequacy.p_value,
         d.adequacy.windows,
         d.adequacy.events_total,
+        // where the events could not be tested against the noise, the coherence test's
+        match (d.adequacy.event_verdict, c.verdict) {
+            (rsf_diagnose::AdequacyVerdict::Untestable, rsf_diagnose::AdequacyVerdict::Untestable) => {
+                format!("; compared with each other: untestable, {} of {} events", c.compared, c.windows)
+            }
+            (rsf_diagnose::AdequacyVerdict::Untestable, v) => format!(
+                "; compared with each other: {} ({} events agree: excess {:.2}, p {})",
+                v.as_str(),
+                c.compared,
+                c.excess,
+                rsf_diagnose::p_words(c.p_value)
+            ),
+            (rsf_diagnose::AdequacyVerdict::Adequate | rsf_diagnose::AdequacyVerdict::Inadequate, _) => String::new(),
+        },
         if l.p_value.is_finite() {
             format!(
                 "; levels {} across {} step{}: excess {:.2}, p {}",

@@ -108,6 +108,11 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["adequacy_events"] = json!(d.adequacy.events_total);
             r["levels_p"] = json!(d.adequacy.levels.p_value);
             r["levels_excess"] = json!(d.adequacy.levels.excess);
+            r["coherence"] = json!(d.adequacy.coherence.verdict.as_str());
+            r["coherence_p"] = json!(d.adequacy.coherence.p_value);
+            r["coherence_excess"] = json!(d.adequacy.coherence.excess);
+            r["coherence_compared"] = json!(d.adequacy.coherence.compared);
+            r["profiles"] = json!(d.adequacy.coherence.profiles);
             r["levels"] = json!(
                 d.adequacy
                     .levels

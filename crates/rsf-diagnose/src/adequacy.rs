@@ -47,6 +47,7 @@
 //! the event test's verdict (a record whose events cannot be tested stays untestable even when
 //! its levels fit: the shape of its transients is not judged).
 
+use super::coherence::{Coherence, EventDirection, EventWindow, coherence};
 use super::levels::{LevelTest, level_test};
 use super::sensitivity::FitEffect;
 use super::timing::TIMING_SIGMAS;
@@ -86,10 +87,10 @@ pub const WINDOW_DC: f64 = 3.0;
 pub const MIN_WINDOWS: usize = 1;
 /// Bins of a window: the first from its start to 10⁻³ of its length, then one per half decade
 /// (10^−2.5 = 3.16e-3, …).
-const BIN_EDGES: [f64; 8] =
+pub(super) const BIN_EDGES: [f64; 8] =
     [0.0, 1e-3, 3.162_277_660_168_379_5e-3, 1e-2, 3.162_277_660_168_379_5e-2, 1e-1, 3.162_277_660_168_379_5e-1, 1.0];
 /// Bins of a window.
-const BINS: usize = BIN_EDGES.len() - 1;
+pub(super) const BINS: usize = BIN_EDGES.len() - 1;
 /// A window whose samples fill fewer than this many bins is left out (its shape unseen).
 const MIN_BINS: usize = 3;
 /// Break shifts tried on each side of zero, evenly over the break-time uncertainty
@@ -175,6 +176,9 @@ pub struct Adequacy {
     /// The level test (`levels.rs`): each step's change of level against its placebos and the
     /// fit's own uncertainty; part of the verdict.
     pub levels: LevelTest,
+    /// The coherence test (`coherence.rs`): do the events' misfits agree with each other beyond
+    /// the noise? Part of the verdict where the event test cannot run.
+    pub coherence: Coherence,
 }
 
 impl Adequacy {
@@ -187,8 +191,8 @@ impl Adequacy {
         }
     }
 
-    /// The verdict in words, for the diagnosis's reason: the event test's, and the level
-    /// test's when it ran.
+    /// The verdict in words, for the diagnosis's reason: the event test's (the coherence
+    /// test's where the event test could not run), and the level test's when it ran.
     pub fn words(&self) -> String {
         let levels = self.levels.words();
         match (self.event_verdict, levels) {
@@ -204,9 +208,11 @@ impl Adequacy {
     /// The event test's verdict in words.
     fn event_words(&self) -> String {
         match self.event_verdict {
-            AdequacyVerdict::Untestable => {
-                "its events could not be tested (too few with a quiet stretch as long as their transient)".into()
-            }
+            AdequacyVerdict::Untestable => format!(
+                "its events could not be tested against the noise (too few with a quiet stretch as long as their \
+                 transient); compared with each other, {}",
+                self.coherence.words()
+            ),
             AdequacyVerdict::Adequate => format!(
                 "it explains the events to the noise level (event-locked misfit {:.2}× the noise's variance, p = {:.2}{})",
                 self.excess,
@@ -234,21 +240,28 @@ impl Adequacy {
     }
 }
 
-/// The model's verdict from the event test's and the level test: inadequate when the levels
-/// are off ([`LevelTest::inadequate`]), else the event test's.
-fn with_levels(events: AdequacyVerdict, levels: &LevelTest) -> AdequacyVerdict {
-    if levels.inadequate() { AdequacyVerdict::Inadequate } else { events }
+/// The model's verdict from the event test's, the level test and the coherence test:
+/// inadequate when the levels are off ([`LevelTest::inadequate`]), or when the events could
+/// not be tested against placebos and their misfits agree with each other beyond the noise
+/// (`coherence.rs`); else the event test's. Where the coherence test finds nothing the record
+/// stays untestable: it compares the events with each other, not with the noise's own size.
+fn verdict_of(events: AdequacyVerdict, levels: &LevelTest, coherence: &Coherence) -> AdequacyVerdict {
+    match events {
+        _ if levels.inadequate() => AdequacyVerdict::Inadequate,
+        AdequacyVerdict::Untestable if coherence.verdict == AdequacyVerdict::Inadequate => AdequacyVerdict::Inadequate,
+        AdequacyVerdict::Untestable | AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => events,
+    }
 }
 
 /// The event test's rule: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
 /// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`].
-fn misfit(p_value: f64, excess: f64) -> bool {
+pub(super) fn misfit(p_value: f64, excess: f64) -> bool {
     (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
         || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE)
 }
 
 /// A window's bins: (bin index, mean residual, mean shape) of each bin its samples fill.
-type Bins = Vec<(usize, f64, f64)>;
+pub(super) type Bins = Vec<(usize, f64, f64)>;
 
 /// The window [t0, t0 + len)'s samples averaged in bins of time since t0: the residuals, and
 /// `shape` (the event's own nuisance, the model's rate of change after the event as (time since
@@ -294,6 +307,82 @@ fn spread(bins: &Bins, offset: &[f64; BINS]) -> f64 {
     let shift = if gg > 0.0 { rg / gg } else { 0.0 };
     bins.iter().map(|m| (r(m) - mr - shift * (m.2 - mg)).powi(2)).sum::<f64>() / n
 }
+
+/// A window's profile for the coherence test (`coherence.rs`): its bin means after the best
+/// of the break shifts `shifts`, with the part along a constant, `time_fraction` (each bin's
+/// mean time since the window's start over its length: a drift's slope) and, in a window of
+/// five bins or more, the shape's bin means taken out by least squares; the shift whose
+/// profile is smallest is the one taken.
+/// Zeros in the bins the window does not fill; `None` when nothing is left.
+pub(super) fn least_shift_profile(
+    bins: &Bins,
+    shifts: &[[f64; BINS]],
+    time_fraction: &[f64; BINS],
+) -> Option<[f64; BINS]> {
+    let n = bins.len() as f64;
+    // the nuisance columns over the filled bins, centred (the constant) and made orthonormal
+    let centred = |v: Vec<f64>| {
+        let m = v.iter().sum::<f64>() / n;
+        v.into_iter().map(|x| x - m).collect::<Vec<f64>>()
+    };
+    let mut basis: Vec<Vec<f64>> = vec![];
+    // the slope first; the shape only where two bins' worth of shape would still be left
+    let mut columns = vec![bins.iter().map(|m| time_fraction[m.0]).collect::<Vec<f64>>()];
+    if bins.len() >= PROFILE_SHAPE_BINS {
+        columns.push(bins.iter().map(|m| m.2).collect());
+    }
+    for column in columns {
+        let mut c = centred(column);
+        let scale = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for q in &basis {
+            let dot: f64 = c.iter().zip(q).map(|(a, b)| a * b).sum();
+            c.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
+        }
+        let norm = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // a column that adds nothing new (an empty shape, or one along the slope) is dropped
+        if norm > 1e-9 * scale && norm > 0.0 {
+            basis.push(c.into_iter().map(|x| x / norm).collect());
+        }
+    }
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    for o in shifts {
+        let mut y = centred(bins.iter().map(|&(b, r, _)| r + o[b]).collect());
+        for q in &basis {
+            let dot: f64 = y.iter().zip(q).map(|(a, b)| a * b).sum();
+            y.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
+        }
+        let ss: f64 = y.iter().map(|x| x * x).sum();
+        if best.as_ref().is_none_or(|b| ss < b.0) {
+            best = Some((ss, y));
+        }
+    }
+    let (ss, y) = best?;
+    (ss > 0.0).then(|| {
+        let mut out = [0.0; BINS];
+        for (m, v) in bins.iter().zip(y) {
+            out[m.0] = v;
+        }
+        out
+    })
+}
+
+/// Each bin's mean time since `t0` over `len` across the window's samples (0 where empty).
+fn bin_time_fractions(time: &[f64], t0: f64, len: f64) -> [f64; BINS] {
+    let i0 = time.partition_point(|&t| t < t0);
+    let i1 = time.partition_point(|&t| t < t0 + len);
+    let mut sums = [(0.0f64, 0usize); BINS];
+    for &t in &time[i0..i1] {
+        let u = (t - t0) / len;
+        let b = bin_of(u);
+        sums[b].0 += u;
+        sums[b].1 += 1;
+    }
+    sums.map(|(s, k)| if k > 0 { s / k as f64 } else { 0.0 })
+}
+
+/// A profile takes the model's own rate out too only in a window of at least this many filled
+/// bins: with the mean, the slope and the rate out, two bins' worth of shape remain.
+const PROFILE_SHAPE_BINS: usize = 5;
 
 /// One window's Q with no break shift (the linear one only).
 #[cfg(test)]
@@ -427,7 +516,14 @@ pub fn adequacy(
         let reslide = segments[j - 1].v <= 0.0;
         // the break's time is known to about σ_x/|Δv| (timing.rs), taken TIMING_SIGMAS wide
         let uncertainty = TIMING_SIGMAS * load_point_sigma_um / (s.v - segments[j - 1].v).abs();
-        events.push((j, s.t0, window_of(s), if reslide { "reslide" } else { "step" }, uncertainty));
+        let direction = if reslide {
+            EventDirection::Reslide
+        } else if s.v > segments[j - 1].v {
+            EventDirection::StepUp
+        } else {
+            EventDirection::StepDown
+        };
+        events.push((j, s.t0, window_of(s), direction, uncertainty));
     }
     let quiet = quiet_stretches(segments, dc_max);
     // an event window's placebos: disjoint windows of its length tiling the quiet stretches
@@ -442,7 +538,12 @@ pub fn adequacy(
         evenly(starts)
     };
     let mut tested: Vec<Tested> = vec![];
-    for &(j, t0, len, what, uncertainty) in &events {
+    let mut compared: Vec<EventWindow> = vec![];
+    for &(j, t0, len, direction, uncertainty) in &events {
+        let what = match direction {
+            EventDirection::Reslide => "reslide",
+            EventDirection::StepUp | EventDirection::StepDown => "step",
+        };
         let shape = event_shape(time, &rate, t0, len);
         let Some(bins) = window_bins(time, &res, &shape, t0, len) else { continue };
         // the event window and each placebo alike take the break shift that fits them best
@@ -468,10 +569,12 @@ pub fn adequacy(
         if placebo.len() >= MIN_PLACEBOS && q > 0.0 {
             tested.push((j, t0, what, len, q, placebo));
         }
+        compared.push(EventWindow { t: t0, direction, bins, shifts, time_fraction: bin_time_fractions(time, t0, len) });
     }
+    let coherence = coherence(&compared);
     if tested.len() < MIN_WINDOWS {
         return Adequacy {
-            verdict: with_levels(AdequacyVerdict::Untestable, &levels),
+            verdict: verdict_of(AdequacyVerdict::Untestable, &levels, &coherence),
             event_verdict: AdequacyVerdict::Untestable,
             excess: f64::NAN,
             p_value: f64::NAN,
@@ -481,6 +584,7 @@ pub fn adequacy(
             events_total: events.len(),
             events: vec![],
             levels,
+            coherence,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -522,7 +626,7 @@ pub fn adequacy(
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
     let event_verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
-        verdict: with_levels(event_verdict, &levels),
+        verdict: verdict_of(event_verdict, &levels, &coherence),
         event_verdict,
         excess,
         p_value,
@@ -532,12 +636,32 @@ pub fn adequacy(
         events_total: events.len(),
         events: per_event,
         levels,
+        coherence,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A window's profile for the coherence test keeps a transient's shape but loses its mean
+    /// and a drift's slope across it.
+    #[test]
+    fn a_profile_keeps_a_shape_and_loses_offset_and_slope() {
+        let time: Vec<f64> = (0..4000).map(|i| i as f64 * 0.05).collect();
+        let frac = bin_time_fractions(&time, 0.0, 200.0);
+        let bins_of = |res: &[f64]| window_bins(&time, res, &[], 0.0, 200.0).unwrap();
+        // an offset plus a drift's slope: nothing left
+        let drift: Vec<f64> = time.iter().map(|t| 2e-4 + 1e-6 * t).collect();
+        let p = least_shift_profile(&bins_of(&drift), &[[0.0; BINS]], &frac);
+        assert!(p.is_none_or(|p| p.iter().all(|x| x.abs() < 1e-12)), "{p:?}");
+        // a decaying transient: its early bins stand out, of the transient's sign
+        let transient: Vec<f64> = time.iter().map(|t| 1e-3 * (-t / 2.0).exp()).collect();
+        let p = least_shift_profile(&bins_of(&transient), &[[0.0; BINS]], &frac).unwrap();
+        let rms = (p.iter().map(|x| x * x).sum::<f64>() / BINS as f64).sqrt();
+        assert!(rms > 1e-5, "{p:?}");
+        assert!(p.iter().all(|x| *x <= p[0]) && p[0] > 0.0, "{p:?}");
+    }
 
     /// Bins: a window's samples fall in the bins of their time since its start.
     #[test]

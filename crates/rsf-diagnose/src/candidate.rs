@@ -36,6 +36,9 @@ pub(super) struct FullFit {
     /// Other one-law ways of the cause that explain the record as well (see
     /// [`Candidate::equally_good_laws`]).
     pub(super) alike: Vec<String>,
+    /// Whether one of `alike` is as simple as the way chosen (see
+    /// [`Candidate::law_undecided`]).
+    pub(super) undecided: bool,
     /// The cause's other ways, fitted the same way (see [`Candidate::alternatives`]).
     pub(super) others: Vec<Alternative>,
 }
@@ -169,16 +172,29 @@ impl Ctx<'_> {
         let best = fitted.iter().enumerate().min_by(|a, b| a.1.0.total_cmp(&b.1.0)).map(|(i, _)| i)?;
         let one_law = |o: &FitOptions| (o.laws.len() == 1).then(|| o.laws[0].name());
         let best_score = fitted[best].0;
-        // the other one-law ways that the record cannot tell from the best: within the decisive
+        // the one-law ways that the record cannot tell from the best: within the decisive
         // threshold of its score (e.g. PRZ and power-law aging at n = 2, the same model)
-        let alike = match one_law(&fitted[best].1.1) {
-            Some(law) => fitted
-                .iter()
-                .filter_map(|(score, v)| one_law(&v.1).filter(|l| *l != law && score - best_score < -DECISIVE))
+        let tied: Vec<usize> = match one_law(&fitted[best].1.1) {
+            Some(_) => (0..fitted.len())
+                .filter(|&i| one_law(&fitted[i].1.1).is_some() && fitted[i].0 - best_score < -DECISIVE)
                 .collect(),
-            None => vec![],
+            None => vec![best],
         };
-        let (_, (extension, o, _, f, nf)) = fitted.swap_remove(best);
+        // of those, the one with the fewest free parameters is named (the best-scoring of them):
+        // a law the record cannot tell from a freer one is the simpler claim
+        let free = |i: usize| fitted[i].1.3.n_free;
+        let chosen =
+            tied.iter().copied().min_by(|&a, &b| free(a).cmp(&free(b)).then(fitted[a].0.total_cmp(&fitted[b].0)));
+        let chosen = chosen.unwrap_or(best);
+        // as simple a law as it that the record cannot tell from it: no law is named, and the
+        // laws listed are those as simple (the freer ones stay among the alternatives)
+        let undecided = tied.iter().any(|&i| i != chosen && free(i) == free(chosen));
+        let alike: Vec<String> = tied
+            .iter()
+            .filter(|&&i| i != chosen && (!undecided || free(i) == free(chosen)))
+            .filter_map(|&i| one_law(&fitted[i].1.1))
+            .collect();
+        let (_, (extension, o, _, f, nf)) = fitted.swap_remove(chosen);
         // the other ways, in the order fitted, each scored against the baseline
         let others = fitted
             .into_iter()
@@ -187,7 +203,7 @@ impl Ctx<'_> {
                 Alternative { extension, delta_bic, delta_aic, converged: fit.converged, fit, options }
             })
             .collect();
-        Some(FullFit { extension, o, f, nf, alike, others })
+        Some(FullFit { extension, o, f, nf, alike, undecided, others })
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -242,7 +258,15 @@ impl Ctx<'_> {
 
     /// The candidate `cause` from its fit on the whole record and its held-out test.
     pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
-        let FullFit { extension, o, f, nf, alike, others } = full;
+        let FullFit { extension, o, f, nf, alike, undecided, others } = full;
+        // the laws the record cannot tell apart are named together, none of them alone
+        let (extension, alike) = match o.laws.as_slice() {
+            [law] if undecided => {
+                let laws: Vec<String> = std::iter::once(law.name()).chain(alike).collect();
+                (format!("a law other than {} ({})", self.base_law, laws.join(" or ")), laws)
+            }
+            _ => (extension, alike),
+        };
         let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
@@ -263,8 +287,10 @@ impl Ctx<'_> {
             heldout_uninformative: dbic < BLIND_DECISIVE
                 && (self.sigma_held_out || self.training_blind(cause, &f, training_gain)),
             drift_share_after: nf.model.drift_share,
-            effect: effect_of(&[cause], &f),
+            // a law the record cannot tell from another as simple is not named, nor its parameters
+            effect: if undecided { effect_of(&[cause], &f).without_law() } else { effect_of(&[cause], &f) },
             equally_good_laws: alike,
+            law_undecided: undecided,
             alternatives: others,
             adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, None).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
@@ -455,7 +481,12 @@ pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], leve
                 rms_ratio: f.rms / f1.rms,
                 heldout_rms_before: c1.heldout_rms_after,
                 heldout_rms_after: held.get(i).copied().flatten(),
-                effect: effect_of(&[c1.cause, c2.cause], &f),
+                // a law left unnamed on its own is not named in a combination either
+                effect: if [c1, c2].iter().any(|c| c.law_undecided) {
+                    effect_of(&[c1.cause, c2.cause], &f).without_law()
+                } else {
+                    effect_of(&[c1.cause, c2.cause], &f)
+                },
                 fit: f,
             })
         })

@@ -284,6 +284,13 @@ pub enum EffectValue {
 }
 
 impl Effect {
+    /// The effect without the evolution law's part (the law, its own parameters and a mixture's
+    /// share): what is left when the record cannot tell the law from another as simple
+    /// ([`crate::Candidate::law_undecided`]).
+    pub fn without_law(self) -> Self {
+        Self { law: None, c: None, w: None, b_other_fraction: None, law_parameters: Default::default(), ..self }
+    }
+
     /// No parameter set.
     pub fn is_empty(&self) -> bool {
         self.entries().is_empty()

@@ -278,16 +278,27 @@ pub(super) fn verdict(
                 } + &if c.equally_good_laws.is_empty() {
                     String::new()
                 } else {
+                    // when no law is named, the list holds the one fitted too
                     let laws = &c.equally_good_laws;
                     let list = match laws.as_slice() {
                         [one] => format!("the {one} law explains"),
                         [rest @ .., last] => format!("the {} and {last} laws explain", rest.join(", ")),
                         [] => String::new(),
                     };
-                    format!(
-                        "; {list} the record as well (ΔBIC within {}): the record cannot tell them apart",
-                        -DECISIVE
-                    )
+                    if c.law_undecided {
+                        format!(
+                            "; {} the record as well as each other with as few parameters (ΔBIC within {}): the \
+                             record cannot tell them apart, so no law is named, only that the baseline's is not the \
+                             record's",
+                            list, -DECISIVE
+                        )
+                    } else {
+                        format!(
+                            "; {list} the record as well (ΔBIC within {}) with more parameters: the record cannot tell \
+                             them apart, and the simplest is named",
+                            -DECISIVE
+                        )
+                    }
                 },
                 rejected_note
             ),
@@ -345,6 +356,7 @@ mod tests {
             drift_share_after: 0.0,
             effect: Effect::default(),
             equally_good_laws: vec![],
+            law_undecided: false,
             alternatives: vec![],
             adequacy_excess: f64::NAN,
             steps: 0,

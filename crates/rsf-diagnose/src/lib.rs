@@ -25,7 +25,10 @@
 //!    where the protocol's events are (`adequacy.rs`: event windows against placebo windows of
 //!    the same length); when it does not, the verdict is `unexplained`, with the best partial
 //!    extension and where the misfit sits; likewise when it puts segments at the wrong level
-//!    across the steps (`levels.rs`).
+//!    across the steps (`levels.rs`), or, where no quiet stretch leaves the events testable
+//!    against the noise, when its misfits at the events agree with each other beyond what noise
+//!    does (`coherence.rs`). Among laws the record cannot tell apart the simplest is named, and
+//!    none when two are as simple.
 //!
 //! Independent fits run in parallel on all cores.
 
@@ -42,6 +45,7 @@
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `adequacy.rs` | whether the model named explains the events to the noise level (else `unexplained`) |
+//! | `coherence.rs` | where the events cannot be tested against quiet stretches: whether the model's misfits at them agree with each other (part of the adequacy verdict) |
 //! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (part of the adequacy verdict) |
 //! | `sensitivity.rs` | the named fit's own uncertainty as changes of its model, for the level test's null |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
@@ -50,6 +54,7 @@
 mod adequacy;
 mod candidate;
 mod cause;
+mod coherence;
 mod decide;
 pub mod events;
 mod evidence;
@@ -69,6 +74,7 @@ pub use adequacy::{
 };
 pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
+pub use coherence::{Coherence, EventDirection, EventProfile, SIGN_PATTERNS};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
 pub use levels::{LevelMisfit, LevelTest, level_test, p_words};

@@ -80,10 +80,18 @@ pub struct Candidate {
     /// The effect's parameters (e.g. `b2`, `dc2`; `vc`; `g`; `k`; `law`).
     pub effect: Effect,
     /// Other laws (one state, fitted the same way) that explain the record as well as the one
-    /// named: ΔBIC within the decisive threshold of its own. The record cannot tell them apart
-    /// (e.g. PRZ and power-law aging at n = 2 with Dc doubled, which are the same model).
+    /// named: ΔBIC within the decisive threshold of the best. The record cannot tell them apart
+    /// (e.g. PRZ and power-law aging at n = 2 with Dc doubled, which are the same model); the one
+    /// named is the simplest, and these have more free parameters. With
+    /// [`Candidate::law_undecided`], the laws as simple as each other instead, the one fitted first.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub equally_good_laws: Vec<String>,
+    /// Set when another law the record cannot tell from the one fitted has as few free
+    /// parameters: no law is named (`effect` carries none; `equally_good_laws` lists those as
+    /// simple, the one fitted and shown first). Otherwise the law named is the
+    /// one of fewest free parameters among those the record cannot tell apart (PRZ before
+    /// power-law aging with its exponent free).
+    pub law_undecided: bool,
     /// The cause's other ways (the evolution law's other laws of the registry and mixtures),
     /// each fitted like the one chosen and scored against the baseline: the rivals a design
     /// keeps when the model named does not explain the record (`rsf design`).

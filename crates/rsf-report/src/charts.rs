@@ -266,3 +266,38 @@ pub fn adequacy_svg(d: &Diagnosis) -> Result<String, PlotError> {
     ));
     render("", &[panel], 1, (760, 340))
 }
+
+/// Where the events could not be tested against quiet windows: each event's misfit profile in
+/// log time since it (the coherence test's, `diagnose/coherence.rs`), steps up and reslides in
+/// one colour, steps down in another — a wrong law's misfits lie on top of each other, noise's
+/// scatter about zero. Empty when fewer than two events have a profile.
+pub fn coherence_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    use rsf_diagnose::{AdequacyVerdict, EventDirection};
+    let c = &d.adequacy.coherence;
+    if d.adequacy.event_verdict != AdequacyVerdict::Untestable || c.profiles.len() < 2 {
+        return Ok(String::new());
+    }
+    let mut panel = Panel::new(
+        format!(
+            "Misfit profiles by event: {}{}",
+            c.verdict.as_str(),
+            if c.p_value.is_finite() { format!(" (p {})", fmt_num(c.p_value, 2)) } else { String::new() }
+        ),
+        "time since the event / window length",
+        "misfit profile (mean and slope taken out)",
+    )
+    .log_x();
+    let (mut up_named, mut down_named) = (false, false);
+    for e in &c.profiles {
+        let (colour, named, label) = match e.direction {
+            EventDirection::StepUp | EventDirection::Reslide => (BASELINE, &mut up_named, "steps up and reslides"),
+            EventDirection::StepDown => (EXTENDED, &mut down_named, "steps down"),
+        };
+        let label = (!*named).then(|| label.to_string());
+        *named = true;
+        panel = panel.with(Series::line(label, e.points(), colour));
+    }
+    let (x0, x1) = (5e-4, 1.0);
+    panel = panel.with(Series::dashed(None, vec![(x0, 0.0), (x1, 0.0)], GREY));
+    render("", &[panel], 1, (760, 340))
+}

@@ -288,10 +288,13 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
     };
     let words = match a.event_verdict {
         rsf_diagnose::AdequacyVerdict::Untestable => format!(
-            "{what}'s events could not be tested: fewer than {} events have a quiet stretch of sliding as long as their \
-             transient ({} Dc of slip) to compare with.",
+            "{what}'s events could not be tested against the noise: fewer than {} events have a quiet stretch of \
+             sliding as long as their transient ({} Dc of slip) to compare with. Compared with each other instead \
+             (does the model misfit every step up and reslide, or every step down, the same way in log time, more \
+             than any pattern of signs of noise would?): {}.",
             rsf_diagnose::MIN_WINDOWS,
-            rsf_diagnose::WINDOW_DC
+            rsf_diagnose::WINDOW_DC,
+            a.coherence.words()
         ),
         rsf_diagnose::AdequacyVerdict::Adequate => format!(
             "{what} explains the record to its noise level where the events are: over {} event windows the \
@@ -341,7 +344,7 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
     format!(
         "<h2>Does the model explain the events?</h2><p class=\"note\">{}</p>{}{}{}\n",
         esc(&words),
-        chart(charts::adequacy_svg(d)),
+        chart(charts::adequacy_svg(d)) + &chart(charts::coherence_svg(d)),
         if rows.is_empty() { String::new() } else { table("", &head, &rows) },
         levels(d)
     )
