@@ -34,7 +34,8 @@
 //! reach p < [`crate::ADEQUACY_LEVEL`] (too few events of a kind). It is used where the event
 //! test cannot run; where it can, the placebos measure the misfit against the noise itself.
 
-use super::adequacy::{ADEQUACY_LEVEL, AdequacyVerdict, BIN_EDGES, BINS, Bins, least_shift_profile, misfit};
+use super::adequacy::{ADEQUACY_LEVEL, AdequacyVerdict, misfit};
+use super::windows::{BIN_EDGES, BINS, Bins, least_shift_profile};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;

@@ -54,11 +54,12 @@
 
 #[cfg(doc)]
 use super::adequacy::PLACEBOS;
-use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, MIN_WINDOW_SAMPLES, evenly, quiet_stretches};
+use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, evenly, quiet_stretches};
 #[cfg(doc)]
 use super::adequacy::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE};
 use super::sensitivity::FitEffect;
 use super::timing::unpredictable;
+use super::windows::MIN_WINDOW_SAMPLES;
 use rsf_fit::fit::FitResult;
 use rsf_fit::segment::Segment;
 use serde::Serialize;

@@ -46,6 +46,7 @@
 //! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `adequacy.rs` | whether the model named explains the events to the noise level (else `unexplained`) |
 //! | `coherence.rs` | where the events cannot be tested against quiet stretches: whether the model's misfits at them agree with each other (part of the adequacy verdict) |
+//! | `windows.rs` | event windows in log-time bins: bin means, break shifts, the spread Q and the profile both tests use |
 //! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (part of the adequacy verdict) |
 //! | `sensitivity.rs` | the named fit's own uncertainty as changes of its model, for the level test's null |
 //! | `run.rs` | the diagnosis itself: [`diagnose`] |
@@ -67,6 +68,7 @@ mod run;
 mod sensitivity;
 mod starts;
 mod timing;
+mod windows;
 
 pub use adequacy::{
     ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, Adequacy, AdequacyVerdict,
