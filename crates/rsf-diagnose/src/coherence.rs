@@ -9,15 +9,15 @@
 //!
 //! **Profiles.** Each event window (the event test's window: [`crate::WINDOW_DC`] Dc of slip,
 //! at most the segment) is averaged in the event test's log-time bins. From its bin means the
-//! window's mean, the model's own rate of change (a shift of the event's time) and the bin means
-//! of the time since the window's start (a drift's slope: a 1/f noise slow against the window is
-//! a line across it, and a slow drift has the same sign in neighbouring windows) are taken out
-//! by least squares, after the best of the event test's break shifts. What is left is the
-//! window's profile.
+//! window's mean, the bin means of the time since the window's start (a drift's slope: a 1/f
+//! noise slow against the window is a line across it, and a slow drift has the same sign in
+//! neighbouring windows) and, in a window of five bins or more, the model's own rate of change
+//! (a shift of the event's time) are taken out by least squares, after the best of the event
+//! test's break shifts (`windows.rs`). What is left is the window's profile.
 //!
 //! **Statistic and null.** Events are grouped by kind ([`speeds_up`]: steps up and reslides,
-//! and steps down); each
-//! profile is scaled to unit length, so a noisy window does not outweigh the others, and
+//! and steps down); each profile is scaled to unit length, so a noisy window does not outweigh
+//! the others, and
 //! T = Σ_groups |Σ_events s_e u_e|² with every s_e = +1. Under noise with no event-locked part the
 //! profiles are independent and as likely of either sign, so every pattern of signs s is as
 //! likely as the observed one: p is the share of sign patterns whose T reaches the observed T

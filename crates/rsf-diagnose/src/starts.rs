@@ -49,6 +49,8 @@ pub(super) fn slip_rate_range(f: &FitResult) -> Option<(f64, f64)> {
 /// the other parameters fitted at each Vc; the two best grid points then start free fits and the
 /// better one wins. A local search from one starting Vc misses a cut-off far below it (where
 /// the gradient in Vc vanishes) — e.g. 3e-6 µm/s that only the end of a 10⁴ s hold reaches.
+/// Any other way whose model cannot be evaluated at `from` starts from a steadier Dc
+/// ([`fit_steadier`]) instead of dropping out of the candidates.
 pub(super) fn fit_from(
     p: &Prepared,
     o: &FitOptions,
@@ -62,7 +64,7 @@ pub(super) fn fit_from(
     if names.iter().any(|x| x == "vc1") && !from.law_params.contains_key("vc1") {
         return profile_vc(p, &o, v_range, threads);
     }
-    fit(p, &o).ok()
+    fit_steadier(p, &o).0
 }
 
 /// Dc multipliers of the steadier starts: a longer Dc lowers the critical stiffness
@@ -72,7 +74,9 @@ const STEADIER_DC: [f64; 2] = [3.0, 10.0];
 /// `fit(p, o)`, or, when the model cannot be evaluated at its starting point, the fit from a
 /// steadier start (Dc ×3, then ×10); and whether the start itself failed. The baseline's
 /// parameters with a cut-off that heals in a long hold can make the reslide run away (V past
-/// 1e9 µm/s) where the Slip-law baseline did not; the cut-off candidate must not vanish for that.
+/// 1e9 µm/s) where the Slip-law baseline did not, and a Slip baseline bent to b = 0.03, Dc =
+/// 4.9 µm made PRZ's law run away at the first step of a record whose truth it was (record 34
+/// of the `--outside` study): no candidate way may vanish for its start.
 fn fit_steadier(p: &Prepared, o: &FitOptions) -> (Option<FitResult>, bool) {
     match fit(p, o) {
         Ok(f) => return (Some(f), false),

@@ -185,3 +185,17 @@ fn laws_the_record_cannot_tell_apart_are_not_named() {
     assert_eq!(laws, ["aging-slip", "nagata"]);
     assert!(d.reason.contains("no law is named"), "{}", d.reason);
 }
+
+/// PRZ truth with Dc = 19 µm (PRZ's convention, 2Dc in the law), steps between 3·10⁻⁴ and
+/// 3.16 µm/s under AR(1) and 1/f noise. The Slip baseline bends to b = 0.030, Dc = 4.9 µm, and
+/// PRZ's law cannot be evaluated from there (the model runs away at the first step); the
+/// candidate then starts from a steadier Dc (×3, ×10), as a cut-off's always did, instead of
+/// dropping the law. PRZ is named (ΔBIC −2127 against the Aging–Slip mixture's −1847).
+/// (Record 34 of the `--outside` study, `tests/data/outside/SOURCE.md`. Fails on the main
+/// before: PRZ was missing from the evolution law's ways, and the mixture was named — a wrong law.)
+#[test]
+fn a_law_whose_start_runs_away_is_fitted_from_a_steadier_one() {
+    let d = diagnosed_with_protocol("prz_steep_start", 0.04391546009065528);
+    assert_eq!(d.cause, Cause::EvolutionLaw, "{}", d.reason);
+    assert_eq!(d.effect.law.as_deref(), Some("prz"), "{}", d.reason);
+}
