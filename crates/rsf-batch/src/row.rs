@@ -91,7 +91,8 @@ pub struct Row {
     pub effect: Option<String>,
     /// The runner-up cause.
     pub runner_up: Option<String>,
-    /// For `unexplained`: the best partial extension.
+    /// For `unexplained`: the best partial extension; for `undecided`: the better of the two
+    /// causes the record cannot tell apart (the other is `runner_up`).
     pub partial: Option<String>,
     /// The adequacy test of the model named: `adequate`, `inadequate` or `untestable`.
     pub adequacy: Option<String>,

@@ -354,7 +354,9 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     if let Some((c, s)) = &d.runner_up {
         out += &format!("runner-up: {c} (ΔBIC {s:.1})\n");
     }
-    if let Some(p) = d.partial {
+    if let [(a, da), (b, db)] = d.undecided[..] {
+        out += &format!("undecided: {a} (ΔBIC {da:.1}) or {b} (ΔBIC {db:.1}); the fit shown is {a}'s\n");
+    } else if let Some(p) = d.partial {
         out += &format!("best partial extension: {p}\n");
     }
     let l = &d.adequacy.levels;

@@ -75,8 +75,10 @@ pub(super) fn credible<'a>(
     let ln_n = (d.baseline.n.max(3) as f64).ln();
     // the other ways of the cause named (another law, a mixture) are rivals: the law is part
     // of the answer; those of the other causes only while the model named is in doubt (when it
-    // explains the record, the design tells the causes apart)
-    let in_doubt = d.adequacy != AdequacyVerdict::Adequate || d.cause == Cause::Unexplained;
+    // explains the record, the design tells the causes apart); for `undecided`, the two causes
+    // the record could not tell apart lie within the window of the best, and the design is
+    // for telling them apart
+    let in_doubt = d.adequacy != AdequacyVerdict::Adequate || matches!(d.cause, Cause::Unexplained | Cause::Undecided);
     for bm in &d.candidates {
         let c = &bm.score;
         if !in_doubt && c.name != c.cause.as_str() && c.cause != d.cause {

@@ -13,6 +13,9 @@
 //! - The same mixture continued through a 10⁴ s hold (what the design of the main before
 //!   issue 38 proposed): the main before issue 38 named it a decisive `cutoff_velocity`
 //!   (ΔBIC −3039, lead 300); the law library now names the mixture, w measured.
+//! - A record whose two best causes score within `UNDECIDED_DBIC` of each other (a small
+//!   second state and a slip trend, tests/data/detection/second_state_or_trend.csv): the
+//!   diagnosis is `undecided`, and the design keeps both and proposes what tells them apart.
 
 use rsf_design::{Design, DesignOptions, StandardKind, design};
 use rsf_diagnose::{AdequacyVerdict, Cause, DiagnoseOptions, Diagnosis, diagnose};
@@ -92,4 +95,24 @@ fn long_holds_do_not_turn_a_mixture_into_a_cutoff() {
     let w = d.effect.w.unwrap();
     assert!((w - 0.15).abs() < 0.01, "w = {w}");
     assert_eq!(d.adequacy.verdict, AdequacyVerdict::Adequate);
+}
+
+/// `undecided` between a slip trend and a second state: both are credible models of the
+/// design, and its first proposal is expected to settle the pair.
+#[test]
+fn an_undecided_diagnosis_gets_the_experiment_that_decides_it() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/second_state_or_trend.csv");
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![rsf_laws::law_by_name("slip", |_| None).unwrap()], 0.03275739878830749);
+    fit.loading = rsf_fit::fit::LoadingMode::Protocol;
+    let dopts = DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) };
+    let (d, g) = design(&rec, &segs, &dopts, &DesignOptions { threads: 2, ..Default::default() }).unwrap();
+    println!("{}", g.summary);
+    assert_eq!(d.cause, Cause::Undecided, "{}", d.reason);
+    let names: Vec<&str> = g.models.iter().map(|m| m.name.as_str()).collect();
+    assert!(names.contains(&"slip_trend") && names.contains(&"second_state_variable"), "{names:?}");
+    assert!(!g.proposals.is_empty(), "{}", g.summary);
+    assert!(g.summary.contains("slip_trend vs second_state_variable"), "{}", g.summary);
 }

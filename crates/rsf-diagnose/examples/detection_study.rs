@@ -131,6 +131,9 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
                     .unwrap_or_default()
             );
             r["secondary"] = json!(d.secondary.as_ref().map(|s| s.cause.as_str()));
+            // `undecided`: the two causes the record does not tell apart
+            r["undecided"] = json!(d.undecided.iter().map(|u| u.0.as_str()).collect::<Vec<_>>());
+            r["unfitted_causes"] = json!(d.unfitted_causes.iter().map(|c| c.as_str()).collect::<Vec<_>>());
             r["effect"] = json!(d.effect);
             r["confidence"] = json!(d.confidence);
             r["reconstruction"] = json!(d.reconstruction.as_ref().map(|x| x.segment));
@@ -169,6 +172,7 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
                         "drift_share_after": c.drift_share_after,
                         "rms": c.fit.as_ref().map(|f| f.rms),
                         "adequacy_excess": c.adequacy_excess,
+                        "unfitted_ways": c.unfitted_ways,
                     }))
                     .collect::<Vec<_>>()
             );

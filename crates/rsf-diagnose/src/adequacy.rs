@@ -49,6 +49,9 @@
 
 use super::coherence::{Coherence, EventDirection, EventWindow, coherence};
 use super::levels::{LevelTest, level_test};
+#[cfg(doc)]
+use super::rule::{ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, PLACEBOS};
+use super::rule::{AdequacyVerdict, MIN_PLACEBOS, WINDOW_DC, evenly, misfit, quiet_stretches};
 use super::sensitivity::FitEffect;
 use super::timing::TIMING_SIGMAS;
 use super::windows::{bin_time_fractions, break_shifts, event_shape, least_q, model_rate, window_bins};
@@ -57,58 +60,9 @@ use rsf_fit::segment::Segment;
 use serde::Serialize;
 use statrs::distribution::ContinuousCDF;
 
-/// At most this many placebo windows per event window (evenly spread over the quiet tiles).
-pub const PLACEBOS: usize = 199;
-/// An event window is tested only against at least this many disjoint placebos: fewer cannot
-/// say how the noise's own window statistic scatters.
-pub const MIN_PLACEBOS: usize = 10;
-/// The test's level: a model is inadequate when so large an event-locked misfit arises by
-/// chance with probability below 1 %…
-pub const ADEQUACY_LEVEL: f64 = 0.01;
-/// …and when the event-locked misfit carries at least as much variance as the noise does in
-/// windows of the same length (excess 2): a misfit as large as the noise is visible in a plot
-/// of the residuals; a smaller one, though significant in a long record, is at the noise level.
-pub const ADEQUACY_EXCESS: f64 = 2.0;
-/// A larger misfit needs less significance: inadequate also when p is below 5 %…
-pub const ADEQUACY_LEVEL_LARGE: f64 = 0.05;
-/// …and the misfit's rms is at least twice the noise's (excess 4, as large in variance as three
-/// noises). With few event windows, each ranked against placebos of a heavy-tailed real noise,
-/// p cannot fall far however large the misfit; a misfit of twice the noise at p < 0.05 is not
-/// "the noise level". (Added after the `--outside` study showed wrong models of excess 11–80
-/// passing at p 0.01–0.05; its false-alarm rate is measured on the 111-record and 1/f sets,
-/// which did not choose it.)
-pub const ADEQUACY_EXCESS_LARGE: f64 = 4.0;
-/// An event's window spans this many Dc of load-point slip after it (the longest Dc of the
-/// model): a transient has decayed to e^(−3) ≈ 5 % of its size by then, so a placebo after it
-/// holds a twentieth of an event's misfit at most — and a lab's segments, often only a few Dc
-/// long, keep a quiet stretch to compare with.
-pub const WINDOW_DC: f64 = 3.0;
 /// The test needs at least this many event windows with placebos: one suffices, since each
 /// window is ranked against its own placebos (one step or one hold is a test of one event).
 pub const MIN_WINDOWS: usize = 1;
-
-/// The outcome of the adequacy test.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AdequacyVerdict {
-    /// The model explains the event windows to the noise level.
-    Adequate,
-    /// The event windows hold misfit beyond the noise.
-    Inadequate,
-    /// Too few event windows with a quiet twin to test.
-    Untestable,
-}
-
-impl AdequacyVerdict {
-    /// The name in JSON and tables.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Adequate => "adequate",
-            Self::Inadequate => "inadequate",
-            Self::Untestable => "untestable",
-        }
-    }
-}
 
 /// One event window's misfit.
 #[derive(Clone, Debug, Serialize)]
@@ -230,34 +184,6 @@ fn verdict_of(events: AdequacyVerdict, levels: &LevelTest, coherence: &Coherence
         AdequacyVerdict::Untestable if coherence.verdict == AdequacyVerdict::Inadequate => AdequacyVerdict::Inadequate,
         AdequacyVerdict::Untestable | AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => events,
     }
-}
-
-/// The event test's rule: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
-/// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`].
-pub(super) fn misfit(p_value: f64, excess: f64) -> bool {
-    (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
-        || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE)
-}
-
-/// Where a placebo may lie: inside a sliding segment, after its own transient of
-/// [`WINDOW_DC`] times `dc_max` (µm) of slip (no event inside it, and none of an event's
-/// transient), as (start, end) in s.
-pub(super) fn quiet_stretches(segments: &[Segment], dc_max: f64) -> Vec<(f64, f64)> {
-    segments
-        .iter()
-        .filter(|s| s.v > 0.0)
-        .map(|s| (s.t0 + (WINDOW_DC * dc_max / s.v).min(s.t1 - s.t0), s.t1))
-        .filter(|q| q.1 > q.0)
-        .collect()
-}
-
-/// At most [`PLACEBOS`] of `starts`, spread evenly over them.
-pub(super) fn evenly<T: Copy>(starts: Vec<T>) -> Vec<T> {
-    if starts.len() <= PLACEBOS {
-        return starts;
-    }
-    let n = starts.len();
-    (0..PLACEBOS).map(|i| starts[i * n / PLACEBOS]).collect()
 }
 
 /// A tested event window: its segment index, start, what happened, length, Q, and its

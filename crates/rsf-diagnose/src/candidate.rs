@@ -41,6 +41,8 @@ pub(super) struct FullFit {
     pub(super) undecided: bool,
     /// The cause's other ways, fitted the same way (see [`Candidate::alternatives`]).
     pub(super) others: Vec<Alternative>,
+    /// The ways that could not be fitted from any start (see [`Candidate::unfitted_ways`]).
+    pub(super) unfitted: Vec<String>,
 }
 
 /// A free stiffness fitted from the nominal k that stays above this fraction of it has not
@@ -139,6 +141,7 @@ impl Ctx<'_> {
     ) -> Option<FullFit> {
         let mut single: Option<Params> = None;
         let mut fitted = vec![];
+        let mut unfitted = vec![];
         for (ext, o) in self.variants(cause) {
             // a law of the library is refitted only when it is the way asked for; the classic
             // ways (the other law, the two-state mixture) always
@@ -148,7 +151,10 @@ impl Ctx<'_> {
             if library && only.is_some_and(|e| e != ext) {
                 continue;
             }
-            let Some(pc) = pc_of(&o) else { continue };
+            let Some(pc) = pc_of(&o) else {
+                unfitted.push(ext);
+                continue;
+            };
             let mixture = o.laws.len() == 2 && o.laws[0].name() != o.laws[1].name();
             let mut starts = vec![from.clone()];
             if mixture {
@@ -156,9 +162,13 @@ impl Ctx<'_> {
             }
             // a mixture has both states healing (b of one sign); b of opposite signs is a
             // difference of laws, not a share of time-dependent healing
-            let best = starts
-                .iter()
-                .filter_map(|s| self.fit_best(&pc, &o, s, threads))
+            let fits: Vec<FitResult> = starts.iter().filter_map(|s| self.fit_best(&pc, &o, s, threads)).collect();
+            if fits.is_empty() {
+                unfitted.push(ext);
+                continue;
+            }
+            let best = fits
+                .into_iter()
                 .filter(|f| !mixture || f.params.b[0] * f.params.b[1] > 0.0)
                 .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood));
             let Some(f) = best else { continue };
@@ -203,7 +213,7 @@ impl Ctx<'_> {
                 Alternative { extension, delta_bic, delta_aic, converged: fit.converged, fit, options }
             })
             .collect();
-        Some(FullFit { extension, o, f, nf, alike, undecided, others })
+        Some(FullFit { extension, o, f, nf, alike, undecided, others, unfitted })
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -258,7 +268,7 @@ impl Ctx<'_> {
 
     /// The candidate `cause` from its fit on the whole record and its held-out test.
     pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
-        let FullFit { extension, o, f, nf, alike, undecided, others } = full;
+        let FullFit { extension, o, f, nf, alike, undecided, others, unfitted } = full;
         // the laws the record cannot tell apart are named together, none of them alone
         let (extension, alike) = match o.laws.as_slice() {
             [law] if undecided => {
@@ -292,6 +302,7 @@ impl Ctx<'_> {
             equally_good_laws: alike,
             law_undecided: undecided,
             alternatives: others,
+            unfitted_ways: unfitted,
             adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, None).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
@@ -336,6 +347,7 @@ impl Ctx<'_> {
             Cause::Stiffness
             | Cause::None
             | Cause::Unexplained
+            | Cause::Undecided
             | Cause::EvolutionLaw
             | Cause::CutoffVelocity
             | Cause::SlipTrend

@@ -29,6 +29,11 @@ pub enum Cause {
     /// misfits the record beyond its noise where the protocol's events are (the adequacy test,
     /// `diagnose/adequacy.rs`). Never a candidate: a verdict about the menu.
     Unexplained,
+    /// Undecided: two extensions each explain the record, credibly and decisively better than
+    /// the baseline, and score within [`crate::UNDECIDED_DBIC`] of each other, so the record
+    /// does not tell which one it needs (`Diagnosis::undecided` holds both; `rsf design` plans
+    /// the experiment that tells them apart). Never a candidate: a verdict about the record.
+    Undecided,
 }
 
 impl Cause {
@@ -42,7 +47,7 @@ impl Cause {
             | Self::SlipTrend
             | Self::Stiffness
             | Self::NormalStressCoupling => true,
-            Self::None | Self::Unexplained => false,
+            Self::None | Self::Unexplained | Self::Undecided => false,
         }
     }
 
@@ -72,6 +77,7 @@ impl Cause {
             Self::Stiffness => "stiffness fitted".into(),
             Self::NormalStressCoupling => "Linker–Dieterich normal-stress coupling α".into(),
             Self::Unexplained => "no model on the menu".into(),
+            Self::Undecided => "one of two extensions the record cannot tell apart".into(),
         }
     }
 
@@ -81,7 +87,7 @@ impl Cause {
         let mut o = o.clone();
         match self {
             Self::None => {}
-            Self::Unexplained => return None,
+            Self::Unexplained | Self::Undecided => return None,
             Self::EvolutionLaw => {
                 if o.laws.iter().any(|l| l.name() != base_law) {
                     return None;
@@ -128,7 +134,7 @@ impl Cause {
     fn add_effect(self, f: &FitResult, effect: &mut Effect) {
         let pr = &f.params;
         match self {
-            Self::None | Self::Unexplained => {}
+            Self::None | Self::Unexplained | Self::Undecided => {}
             Self::EvolutionLaw => {
                 effect.law = Some(pr.laws.join("+"));
                 if pr.b.len() == 2 {
@@ -344,6 +350,7 @@ rsf_core::vocabulary!(Cause, "cause", {
     Stiffness => "stiffness",
     NormalStressCoupling => "normal_stress_coupling",
     Unexplained => "unexplained",
+    Undecided => "undecided",
 });
 
 /// The effect parameters of `causes` applied together in the fit `f`.

@@ -34,7 +34,7 @@
 //! reach p < [`crate::ADEQUACY_LEVEL`] (too few events of a kind). It is used where the event
 //! test cannot run; where it can, the placebos measure the misfit against the noise itself.
 
-use super::adequacy::{ADEQUACY_LEVEL, AdequacyVerdict, misfit};
+use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, misfit, p_words};
 use super::windows::{BIN_EDGES, BINS, Bins, least_shift_profile};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -147,7 +147,7 @@ impl Coherence {
                 "its misfits at the {} events do not agree more than noise does (excess {:.2}, p = {})",
                 self.compared,
                 self.excess,
-                super::levels::p_words(self.p_value)
+                p_words(self.p_value)
             ),
             AdequacyVerdict::Inadequate => {
                 // the largest profiles, where the shared misfit shows most
@@ -165,7 +165,7 @@ impl Coherence {
                     self.compared,
                     self.excess - 1.0,
                     self.excess,
-                    super::levels::p_words(self.p_value),
+                    p_words(self.p_value),
                     worst.join(", ")
                 )
             }

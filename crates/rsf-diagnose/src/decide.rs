@@ -1,8 +1,9 @@
 //! The decision: which decisive candidate is credible, the verdict in words, and the start of a
 //! combination from two optima.
 
-use super::adequacy::{Adequacy, AdequacyVerdict};
+use super::adequacy::Adequacy;
 use super::cause::{Cause, Effect};
+use super::rule::AdequacyVerdict;
 use super::{Candidate, DECISIVE, Disagreement, Gain, Secondary};
 use rsf_fit::fit::{FitResult, Params};
 
@@ -153,7 +154,7 @@ pub(super) fn merge(p1: &Params, p2: &Params, cause2: Cause) -> Params {
         Cause::NormalStressCoupling => p.alpha = p2.alpha.clone(),
         // nothing to carry over: the baseline, a second state the first fit already has, or
         // a law change (its fit starts from its own law's parameters)
-        Cause::SecondStateVariable | Cause::None | Cause::EvolutionLaw | Cause::Unexplained => {}
+        Cause::SecondStateVariable | Cause::None | Cause::EvolutionLaw | Cause::Unexplained | Cause::Undecided => {}
     }
     p
 }
@@ -338,6 +339,19 @@ pub(super) fn verdict(
     }
 }
 
+/// What tells two causes apart, in words, for the pairs whose effects are alike in a way
+/// worth explaining (empty for the others).
+pub(super) fn pair_words(a: Cause, b: Cause) -> &'static str {
+    let pair = |x: Cause, y: Cause| (a, b) == (x, y) || (a, b) == (y, x);
+    if pair(Cause::CutoffVelocity, Cause::EvolutionLaw) {
+        " — a cut-off and a share of time-dependent healing both strengthen long holds: a cut-off flattens \
+         healing only in holds whose slip rate falls below Vc, a share of time-dependent healing also changes \
+         the velocity steps"
+    } else {
+        ""
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -358,6 +372,7 @@ mod tests {
             equally_good_laws: vec![],
             law_undecided: false,
             alternatives: vec![],
+            unfitted_ways: vec![],
             adequacy_excess: f64::NAN,
             steps: 0,
             null: None,

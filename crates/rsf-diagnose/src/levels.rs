@@ -52,11 +52,9 @@
 //! there: the fit's effect carries one change per uncertain velocity (`sensitivity.rs`), added
 //! to the null as the parameters' are.
 
+use super::rule::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, evenly, p_words, quiet_stretches};
 #[cfg(doc)]
-use super::adequacy::PLACEBOS;
-use super::adequacy::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, evenly, quiet_stretches};
-#[cfg(doc)]
-use super::adequacy::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE};
+use super::rule::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE, PLACEBOS};
 use super::sensitivity::FitEffect;
 use super::timing::unpredictable;
 use super::windows::MIN_WINDOW_SAMPLES;
@@ -136,18 +134,6 @@ impl LevelTest {
                 p_words(self.p_value)
             ),
         })
-    }
-}
-
-/// A p-value in two significant figures (`0.0096`, `3.2e-5`, `0.24`): a p near the test's
-/// level is not rounded across it.
-pub fn p_words(p: f64) -> String {
-    if p >= 0.01 {
-        format!("{p:.2}")
-    } else if p >= 0.001 {
-        format!("{p:.4}")
-    } else {
-        format!("{p:.1e}")
     }
 }
 

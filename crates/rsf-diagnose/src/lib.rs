@@ -45,6 +45,7 @@
 //! | `events.rs` | per-event refits and the consistency of Dc between events |
 //! | `decide.rs` | which decisive candidate is credible, the verdict in words, combinations' starts |
 //! | `adequacy.rs` | whether the model named explains the events to the noise level (else `unexplained`) |
+//! | `rule.rs` | the rule the adequacy tests share: their verdicts, the significance and size a misfit needs, where placebos may lie |
 //! | `coherence.rs` | where the events cannot be tested against quiet stretches: whether the model's misfits at them agree with each other (part of the adequacy verdict) |
 //! | `windows.rs` | event windows in log-time bins: bin means, break shifts, the spread Q and the profile both tests use |
 //! | `levels.rs` | whether it puts each segment at the right level: the change of level across each step (part of the adequacy verdict) |
@@ -64,22 +65,20 @@ mod levels;
 mod null;
 mod reconstruction;
 mod result;
+mod rule;
 mod run;
 mod sensitivity;
 mod starts;
 mod timing;
 mod windows;
 
-pub use adequacy::{
-    ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, Adequacy, AdequacyVerdict,
-    EventMisfit, MIN_WINDOWS, PLACEBOS, WINDOW_DC, adequacy,
-};
+pub use adequacy::{Adequacy, EventMisfit, MIN_WINDOWS, adequacy};
 pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
 pub use coherence::{Coherence, EventDirection, EventProfile, SIGN_PATTERNS};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
-pub use levels::{LevelMisfit, LevelTest, level_test, p_words};
+pub use levels::{LevelMisfit, LevelTest, level_test};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use sensitivity::{FitEffect, fit_effect};
@@ -90,12 +89,17 @@ pub use reconstruction::{
 };
 pub use result::{Alternative, Candidate, Diagnosis, Disagreement, Evidence, Gain, NoiseDrift, Secondary};
 pub use rsf_noise::whiten;
+pub use rule::{
+    ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, AdequacyVerdict, PLACEBOS, WINDOW_DC,
+    p_words,
+};
 pub use run::{diagnose, diagnosis_fit_options, without_spikes};
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};
 pub use timing::{TIMING_SIGMAS, TimingMask};
 
-/// A cut-off and an Aging/Slip mixture scoring within this ΔBIC of each other are reported as
-/// undecided: the scale on which ΔBIC = −10 is decisive; nearer than that, neither is.
+/// Two credible, decisive causes scoring within this ΔBIC of each other make the verdict
+/// `undecided` ([`Cause::Undecided`]), and two equally simple laws within it leave the law
+/// unnamed: the scale on which ΔBIC = −10 is decisive; nearer than that, neither is.
 pub const UNDECIDED_DBIC: f64 = 10.0;
 
 /// The residuals' drift is reported (`Diagnosis::noise_drift`, the verdict's text) when it holds

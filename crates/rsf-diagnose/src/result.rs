@@ -97,6 +97,12 @@ pub struct Candidate {
     /// keeps when the model named does not explain the record (`rsf design`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub alternatives: Vec<Alternative>,
+    /// The cause's ways that could not be fitted from any start (their model could not be
+    /// evaluated from the baseline's optimum nor from the steadier starts, or every start
+    /// failed): not among its ways, named so that their absence is seen (e.g.
+    /// `evolution law: PRZ law instead of slip`). Empty when every way was fitted.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unfitted_ways: Vec<String>,
     /// The adequacy test's excess for this extension's fit (1: its event windows look like
     /// noise; `diagnose/adequacy.rs`); NaN where untestable.
     pub adequacy_excess: f64,
@@ -210,8 +216,9 @@ pub struct Diagnosis {
     pub gain: Option<Gain>,
     /// Effect parameters of the chosen extension (for `unexplained`, of the best partial one).
     pub effect: Effect,
-    /// For `unexplained`: the extension that helps most though its model still misfits (its
-    /// fit is `extended`, its gain `gain`).
+    /// For `unexplained`: the extension that helps most though its model still misfits; for
+    /// `undecided`: the better-scoring of the two (its fit is `extended`, its gain `gain`, its
+    /// parameters `effect`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub partial: Option<Cause>,
     /// The adequacy test of the model named (the baseline for `none`; the best partial
@@ -225,11 +232,16 @@ pub struct Diagnosis {
     pub disagreement: Option<Disagreement>,
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
-    /// When the record does not tell a cut-off velocity from a share of time-dependent healing
-    /// (both decisive and credible, within [`super::UNDECIDED_DBIC`]): both, the named cause
-    /// first, with their ΔBIC. Empty otherwise.
+    /// For `undecided`: the two causes the record does not tell apart (both decisive and
+    /// credible, within [`super::UNDECIDED_DBIC`]), the better-scoring first, with their ΔBIC.
+    /// Empty otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub undecided: Vec<(Cause, f64)>,
+    /// The candidate causes none of whose ways could be fitted from any start: not among
+    /// `candidates`, named so that their absence is seen (a cause some of whose ways failed
+    /// lists them in its [`Candidate::unfitted_ways`]). Empty when every cause was fitted.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unfitted_causes: Vec<Cause>,
     /// Slow drift in the residuals of the model named (the baseline's for `none`), when the
     /// noise model finds one holding at least
     /// [`super::DRIFT_NOTE_SHARE`] of their variance: a property of the record (gouge layer,

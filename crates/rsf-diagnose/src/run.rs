@@ -4,7 +4,7 @@
 use super::adequacy::adequacy;
 use super::candidate::{Ctx, FullFit, secondary};
 use super::cause::Cause;
-use super::decide::{heldout_ok, ineligible, judge_adequacy, verdict};
+use super::decide::{ineligible, judge_adequacy, pair_words, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
 use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
@@ -312,12 +312,13 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         out
     });
     let mut fulls = vec![];
+    let mut unfitted_causes = vec![];
     let mut heldouts = vec![];
     let mut per_segment = vec![];
     for r in results {
         match r {
             Done::Candidate(c, Some(b)) => fulls.push((c, *b)),
-            Done::Candidate(_, None) => {}
+            Done::Candidate(c, None) => unfitted_causes.push(c),
             Done::Heldout(c, h) => heldouts.push((c, *h)),
             Done::Event(e) => per_segment.extend(e),
         }
@@ -391,42 +392,45 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect));
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
-    let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;
-    // a cut-off and a share of time-dependent healing both strengthen long holds: when the
-    // other one is decisive and credible too and scores within UNDECIDED_DBIC, the record does
-    // not tell them apart, and the diagnosis says so with both scores
-    let undecided: Vec<(Cause, f64)> = match chosen.map(|c| c.cause) {
-        Some(first @ (Cause::CutoffVelocity | Cause::EvolutionLaw)) => {
-            let other = if first == Cause::CutoffVelocity { Cause::EvolutionLaw } else { Cause::CutoffVelocity };
-            let c1 = chosen.map_or(0.0, |c| c.delta_bic);
-            candidates
-                .iter()
-                .find(|c| {
-                    c.cause == other
-                        && c.delta_bic < DECISIVE
-                        && c.delta_bic - c1 < super::UNDECIDED_DBIC
-                        && heldout_ok(c.heldout_rms_before, c.heldout_rms_after)
-                        && c.at_bound.is_empty()
-                })
-                .map(|c2| vec![(first, c1), (other, c2.delta_bic)])
-                .unwrap_or_default()
-        }
-        Some(
-            Cause::None
-            | Cause::SecondStateVariable
-            | Cause::SlipTrend
-            | Cause::Stiffness
-            | Cause::NormalStressCoupling
-            | Cause::Unexplained,
-        )
-        | None => vec![],
+    // two causes the record cannot tell apart: another credible, decisive candidate within
+    // UNDECIDED_DBIC of the one chosen. Nearer than that, the record prefers neither, so the
+    // verdict names neither (`undecided`, both with their scores; the fit, gain and effect
+    // given are the better one's). Not when a combination is named (it beat the cause alone)
+    // or the model chosen misfits (`unexplained` says more).
+    let undecided: Vec<(Cause, f64)> = match chosen {
+        Some(c1) if secondary.is_none() && v.cause == c1.cause => candidates
+            .iter()
+            .find(|c| {
+                c.cause != c1.cause
+                    && c.delta_bic < DECISIVE
+                    && c.delta_bic - c1.delta_bic < super::UNDECIDED_DBIC
+                    && ineligible(c, level).is_none()
+            })
+            .map(|c2| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)])
+            .unwrap_or_default(),
+        _ => vec![],
     };
     if let [(a, da), (b, db)] = undecided[..] {
-        reason += &format!(
-            "; undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): the record does not tell them \
-             apart — a cut-off flattens healing only in holds whose slip rate falls below Vc, a share of \
-             time-dependent healing also changes the velocity steps (see rsf design)"
+        v.cause = Cause::Undecided;
+        v.partial = Some(a);
+        v.reason = format!(
+            "undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): both explain the record better than the \
+             baseline, within {} of each other, so the record does not tell which it needs{}; rsf design plans \
+             the experiment that does (before: {})",
+            super::UNDECIDED_DBIC,
+            pair_words(a, b),
+            v.reason
         );
+    }
+    let super::decide::Verdict { cause, mut reason, extended, gain, effect, confidence, partial, disagreement } = v;
+    // what could not be fitted from any start is named, never silently missing
+    let unfitted: Vec<String> = unfitted_causes
+        .iter()
+        .map(|c| format!("{c} (every way)"))
+        .chain(candidates.iter().flat_map(|c| c.unfitted_ways.iter().map(move |w| format!("{} ({w})", c.cause))))
+        .collect();
+    if !unfitted.is_empty() {
+        reason += &format!("; not fitted from any start, so not among the candidates: {}", unfitted.join(", "));
     }
     // the drift left in the residuals of the model named (the baseline's hold the named cause's
     // misfit as well, which their noise model reads as drift)
@@ -458,6 +462,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         disagreement,
         runner_up,
         undecided,
+        unfitted_causes,
         noise_drift,
         secondary,
         per_segment,

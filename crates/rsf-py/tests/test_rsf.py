@@ -133,6 +133,16 @@ def test_diagnose_equals_the_cli():
     assert rsf.diagnose(rec, stiffness=0.0151, threads=1)["cause"] == py["cause"]
 
 
+def test_an_undecided_diagnosis_lists_both_causes():
+    # a small second state the record cannot tell from a slip trend (tests/data/detection/SOURCE.md)
+    path = os.path.join(ROOT, "tests", "data", "detection", "second_state_or_trend.csv")
+    rec = rsf.read_record(path)
+    d = rsf.diagnose(rec, stiffness=0.03275739878830749)
+    assert d.cause == "undecided", d.reason
+    assert [c for c, _ in d.undecided] == ["slip_trend", "second_state_variable"]
+    assert d.partial == "slip_trend" and d.runner_up[0] == "second_state_variable"
+
+
 def test_bad_arrays_are_refused_with_a_message():
     t = np.linspace(0.0, 10.0, 50)
     x, m = t.copy(), np.full(50, 0.6)

@@ -41,10 +41,15 @@ pub(super) fn gain(d: &Diagnosis) -> String {
             .into();
     };
     let ext_rms = d.extended.as_ref().map(|e| e.rms).unwrap_or(d.baseline.rms * g.rms_ratio);
+    // for `undecided`, the gain is the better one's of the two
+    let who = match (d.cause, d.partial) {
+        (rsf_diagnose::Cause::Undecided, Some(p)) => format!("{} (undecided)", cause_words(p)),
+        (c, _) => cause_words(c).to_string(),
+    };
     let mut rows = vec![(
         "chosen".to_string(),
         vec![
-            format!("<l>{}", esc(cause_words(d.cause))),
+            format!("<l>{}", esc(&who)),
             score(g.delta_bic),
             score(g.delta_aic),
             fmt_pair(d.baseline.rms, ext_rms, 3),
@@ -405,7 +410,9 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let class = if c.cause == d.cause { "chosen" } else { "" };
+            // the one named, or for `undecided` the two the record cannot tell apart
+            let named = c.cause == d.cause || d.undecided.iter().any(|u| u.0 == c.cause);
+            let class = if named { "chosen" } else { "" };
             let bic =
                 if c.delta_bic < DECISIVE { format!("<b>{}</b>", score(c.delta_bic)) } else { score(c.delta_bic) };
             (
@@ -441,7 +448,8 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
     ];
     format!(
         "<h2>Candidates</h2><p class=\"note\">Each extension fitted from the baseline optimum. Bold: decisive \
-         (ΔBIC<sub>eff</sub> &lt; {}); shaded: the one named. A candidate is named only if it is also credible: \
+         (ΔBIC<sub>eff</sub> &lt; {}); shaded: the one named (for an undecided verdict, the two the record \
+         cannot tell apart). A candidate is named only if it is also credible: \
          held-out rms at most 5 % worse than the baseline's, no parameter run to a bound, and a gain that \
          noise replicates of the baseline reach with probability below the false-alarm level (1 % by \
          default).</p>{}\

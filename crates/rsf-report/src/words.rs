@@ -16,6 +16,7 @@ pub(crate) fn cause_words(cause: Cause) -> &'static str {
         Cause::Stiffness => "a different machine stiffness",
         Cause::NormalStressCoupling => "a coupling of state to normal-stress changes",
         Cause::Unexplained => "something outside the menu",
+        Cause::Undecided => "one of two extensions",
     }
 }
 
@@ -213,7 +214,8 @@ fn because(cause: Cause, d: &Diagnosis) -> String {
         | Cause::SecondStateVariable
         | Cause::None
         | Cause::NormalStressCoupling
-        | Cause::Unexplained => generic,
+        | Cause::Unexplained
+        | Cause::Undecided => generic,
     }
 }
 
@@ -224,9 +226,9 @@ fn need(d: &Diagnosis) -> String {
     let entries = d.effect.entries();
     let val = |k: EffectKey| entries.iter().find(|e| e.key == k).map(|e| effect_value(e, f));
     let base_law = law_words(d.baseline.params.laws.first().map(String::as_str).unwrap_or("slip"));
-    // for `unexplained`, the best partial extension
+    // for `unexplained`, the best partial extension; for `undecided`, the better of the two
     let cause = match (d.cause, d.partial) {
-        (Cause::Unexplained, Some(p)) => p,
+        (Cause::Unexplained | Cause::Undecided, Some(p)) => p,
         (c, _) => c,
     };
     let plain = cause_words(cause).to_string();
@@ -272,7 +274,7 @@ fn need(d: &Diagnosis) -> String {
             Some(a) => format!("a Linker–Dieterich coupling of state to normal-stress changes, α = {a}"),
             None => plain,
         },
-        Cause::None | Cause::Unexplained => plain,
+        Cause::None | Cause::Unexplained | Cause::Undecided => plain,
     }
 }
 
@@ -340,6 +342,22 @@ pub fn verdict(d: &Diagnosis) -> String {
             s += &format!("; the partial extension gains ΔBIC = {}", fmt_num(g.delta_bic, 3));
         }
         s += ". The cause lies outside the menu: a law or effect the library does not have.";
+        return esc(&s);
+    }
+    if let (Cause::Undecided, [(a, da), (b, db)]) = (d.cause, &d.undecided[..]) {
+        let s = format!(
+            "The record needs more than the {baseline}, but it does not tell which of two extensions: {} \
+             (ΔBIC = {}) or {} (ΔBIC = {}), within {} of each other, where a difference of {} would be decisive. \
+             No cause is named; the fit shown is the better one's, {}. rsf design plans the experiment that \
+             tells them apart.",
+            cause_words(*a),
+            fmt_num(*da, 3),
+            cause_words(*b),
+            fmt_num(*db, 3),
+            fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
+            fmt_num(-DECISIVE, 2),
+            need(d)
+        );
         return esc(&s);
     }
     if d.cause == Cause::None || d.gain.is_none() {

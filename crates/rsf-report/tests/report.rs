@@ -145,6 +145,34 @@ fn with_nothing_hidden_the_verdict_says_the_baseline_stands() {
     assert!(!html.contains("<h2>Effect</h2>"), "no effect table without an effect");
 }
 
+/// `undecided` (a small second state the record cannot tell from a slip trend,
+/// tests/data/detection/second_state_or_trend.csv): the verdict names neither, gives both with
+/// their scores, and says what decides; both rows are shaded in the candidates' table.
+#[test]
+fn an_undecided_verdict_names_both_and_neither() {
+    use rsf_fit::data::{ReadOptions, read_record};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/second_state_or_trend.csv");
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.03275739878830749);
+    fit.loading = LoadingMode::Protocol;
+    let d = diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
+    assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
+    let html = diagnosis_html(&d, "undecided");
+    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
+    let verdict = visible(&body[..body.find("</p>").unwrap()]);
+    println!("{verdict}");
+    for words in
+        ["does not tell which of two extensions", "a slip trend", "a second state variable", "No cause is named"]
+    {
+        assert!(verdict.contains(words), "{words}: {verdict}");
+    }
+    let table = &html[html.find("<h2>Candidates</h2>").expect("the candidates")..];
+    assert_eq!(table.matches("<tr class=\"chosen\"").count(), 2);
+    assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
+}
+
 #[test]
 fn long_floats_are_caught() {
     assert_eq!(long_floats("g = 2.833121483939129e-6, k = 0.0073").len(), 1);

@@ -555,8 +555,10 @@ def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, ba
     """Diagnoses a record as ``rsf diagnose`` does: a :class:`Diagnosis` (``cause``, ``gain``,
     ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, ``adequacy``, ``partial``,
     …; ``write_report``). ``cause`` is ``"unexplained"`` when no model on the menu explains the
-    record's events to its noise level. ``stiffness_uncertainty`` is the nominal stiffness's
-    relative uncertainty (one standard deviation), as ``--stiffness-uncertainty``.
+    record's events to its noise level, and ``"undecided"`` when two extensions explain it within
+    ΔBIC 10 of each other (``undecided`` lists both, ``partial`` is the better one).
+    ``stiffness_uncertainty`` is the nominal stiffness's relative uncertainty (one standard
+    deviation), as ``--stiffness-uncertainty``.
     The result depends on the record, the options and ``seed`` only (not on ``threads``).
     ``progress=True`` prints each finished fit on stderr. ``accept_implausible`` as in :func:`fit`.
     """
