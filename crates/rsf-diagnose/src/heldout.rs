@@ -58,6 +58,31 @@ pub(super) fn heldout(
     (n > 0).then(|| ((ss / n as f64).sqrt(), ft))
 }
 
+/// The rms over the whole record of the training fit `ft` of the options `opts` (the held-out
+/// test's, split at `t_split`), its model evaluated on every sample the full fit uses: where it
+/// is below the full fit's own rms, the fit on the whole record stopped short of the best point
+/// its model reaches there.
+pub(super) fn whole_rms(
+    rec: &Record,
+    segs: &[Segment],
+    opts: &FitOptions,
+    ft: &FitResult,
+    t_split: f64,
+) -> Option<f64> {
+    let (train, tsegs) = training(rec, segs, t_split);
+    let o = FitOptions { mu0_per_segment: false, ..opts.clone() };
+    let pt = prepare(&train, &tsegs, &o).ok()?;
+    let pf = prepare(rec, segs, &o).ok()?;
+    let map_f = parameter_map(&pf, &o).ok()?;
+    if parameter_map(&pt, &o).ok()?.free_names() != map_f.free_names() {
+        return None;
+    }
+    let mu = model_curve(&pf, &map_f, &o, &ft.theta, o.rtol).ok()?;
+    let n = pf.used.len();
+    let ss: f64 = pf.used.iter().enumerate().map(|(k, &i)| (mu[k] - pf.record.mu[i]).powi(2)).sum();
+    (n > 0).then(|| (ss / n as f64).sqrt())
+}
+
 /// Where to split for the held-out test: the start of the segment nearest 2/3 of the record
 /// (within 40–85% of it) such that the training part holds at least one velocity change; with
 /// no such segment (a record of one step or one hold), the later of 2/3 of the record and half

@@ -323,11 +323,27 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
             Done::Event(e) => per_segment.extend(e),
         }
     }
-    let mut candidates: Vec<Candidate> = fulls
+    let fulls: Vec<(Cause, FullFit, HeldOut)> = fulls
         .into_iter()
         .map(|(c, (ff, ho))| {
             let ho =
                 ho.unwrap_or_else(|| heldouts.iter().position(|h| h.0 == c).and_then(|i| heldouts.swap_remove(i).1));
+            (c, ff, ho)
+        })
+        .collect();
+    // a full fit that its own training fit beats on the whole record is continued from there
+    let continued = par_map(&fulls, opts.threads, |(_, ff, ho)| {
+        ho.as_ref().and_then(|(_, ft)| ctx.continued_from_training(ff, ft))
+    });
+    lap("continued fits");
+    let mut candidates: Vec<Candidate> = fulls
+        .into_iter()
+        .zip(continued)
+        .map(|((c, mut ff, ho), better)| {
+            if let Some(f) = better {
+                ff.nf = noisy(&f);
+                ff.f = f;
+            }
             ctx.candidate(c, ff, ho)
         })
         .collect();
