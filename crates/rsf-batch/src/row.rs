@@ -104,6 +104,10 @@ pub struct Row {
     pub events: Option<usize>,
     /// Drift rms left in the residuals of the model named, when reported.
     pub drift_rms: Option<f64>,
+    /// The quiet test of the model named: how much its residuals wander inside the quiet
+    /// stretches of sliding over what its noise model says, in variance (about 1: the noise
+    /// model's drift is noise; far below 1: its slow part is misfit, `diagnose/quiet.rs`).
+    pub quiet_wander: Option<f64>,
     /// The manifest's `meta_…` cells.
     pub meta: Vec<(String, String)>,
 }
@@ -135,6 +139,7 @@ impl Row {
             events_tested: None,
             events: None,
             drift_rms: None,
+            quiet_wander: None,
             meta: vec![],
         }
     }
@@ -155,7 +160,7 @@ const HEAD: [(&str, CellKind); 11] = [
     ("rms", CellKind::Number),
 ];
 /// The fixed columns after the parameters, and their kinds.
-const TAIL: [(&str, CellKind); 11] = [
+const TAIL: [(&str, CellKind); 12] = [
     ("cause", CellKind::Text),
     ("delta_bic", CellKind::Number),
     ("rms_ratio", CellKind::Number),
@@ -167,6 +172,7 @@ const TAIL: [(&str, CellKind); 11] = [
     ("events_tested", CellKind::Count),
     ("events", CellKind::Count),
     ("drift_rms", CellKind::Number),
+    ("quiet_wander", CellKind::Number),
 ];
 
 /// The order of parameter columns: mu0, a, then b_i and Dc_i state by state, then the laws'
@@ -312,6 +318,7 @@ pub fn summary_table(rows: &[Row]) -> SummaryTable {
             Cell::Count(r.events_tested.map(|n| n as u64)),
             Cell::Count(r.events.map(|n| n as u64)),
             num(r.drift_rms),
+            num(r.quiet_wander),
         ]);
         for m in &metas {
             cells.push(text(r.meta.iter().find(|(k, _)| k == m).map_or("", |(_, v)| v.as_str())));
@@ -356,7 +363,7 @@ mod tests {
         let t = summary_csv(&[a, b, c]);
         let lines: Vec<&str> = t.lines().collect();
         assert!(lines[0].contains(",rms,a,a_se,dc1,dc1_se,b2,b2_se,k,k_se,cause,"), "{}", lines[0]);
-        assert!(lines[0].ends_with(",drift_rms,meta_sample"));
+        assert!(lines[0].ends_with(",drift_rms,quiet_wander,meta_sample"));
         assert!(lines[1].contains(",0.01,0.0001,10,1,,,0.01,,"), "{}", lines[1]);
         assert!(lines[3].starts_with("\"c, d.csv\",read_failed,"), "{}", lines[3]);
         assert_eq!(lines.len(), 4);

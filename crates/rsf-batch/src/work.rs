@@ -188,6 +188,7 @@ fn work(entry: &Entry, defaults: &RecordOptions, job: Job, threads: usize) -> Ou
                 out.row.events_tested = Some(d.adequacy.windows);
                 out.row.events = Some(d.adequacy.events_total);
                 out.row.drift_rms = d.noise_drift.as_ref().map(|n| n.rms);
+                out.row.quiet_wander = Some(d.adequacy.quiet.ratio).filter(|x| x.is_finite());
                 out.diagnosis = Some(d);
             }
             Err(e) => {

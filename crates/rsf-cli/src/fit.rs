@@ -361,8 +361,9 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     }
     let l = &d.adequacy.levels;
     let c = &d.adequacy.coherence;
+    let q = &d.adequacy.quiet;
     out += &format!(
-        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{}{})\n",
+        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{}{}{})\n",
         d.adequacy.verdict.as_str(),
         d.adequacy.event_verdict.as_str(),
         d.adequacy.excess,
@@ -391,6 +392,23 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
                 if l.steps.len() == 1 { "" } else { "s" },
                 l.excess,
                 rsf_diagnose::p_words(l.p_value)
+            )
+        } else {
+            String::new()
+        },
+        if q.ratio.is_finite() {
+            format!(
+                "; {} quiet stretches wander {:.2}× as much as its noise model says, in variance (p {}){}",
+                q.stretches.len(),
+                q.ratio,
+                rsf_diagnose::p_words(if q.ratio < 1.0 { q.p_below } else { q.p_above }),
+                if q.drift_is_misfit() {
+                    ": its slow residual is misfit, not drift"
+                } else if q.stretches_misfit() {
+                    ": misfit after the transients"
+                } else {
+                    ""
+                }
             )
         } else {
             String::new()

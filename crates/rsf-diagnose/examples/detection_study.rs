@@ -108,6 +108,10 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["adequacy_events"] = json!(d.adequacy.events_total);
             r["levels_p"] = json!(d.adequacy.levels.p_value);
             r["levels_excess"] = json!(d.adequacy.levels.excess);
+            r["quiet_p_below"] = json!(d.adequacy.quiet.p_below);
+            r["quiet_p_above"] = json!(d.adequacy.quiet.p_above);
+            r["quiet_ratio"] = json!(d.adequacy.quiet.ratio);
+            r["quiet_stretches"] = json!(d.adequacy.quiet.stretches.len());
             r["coherence"] = json!(d.adequacy.coherence.verdict.as_str());
             r["coherence_p"] = json!(d.adequacy.coherence.p_value);
             r["coherence_excess"] = json!(d.adequacy.coherence.excess);

@@ -49,6 +49,7 @@
 
 use super::coherence::{Coherence, EventDirection, EventWindow, coherence};
 use super::levels::{LevelTest, level_test};
+use super::quiet::{QuietTest, quiet_test};
 #[cfg(doc)]
 use super::rule::{ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, PLACEBOS};
 use super::rule::{AdequacyVerdict, MIN_PLACEBOS, WINDOW_DC, evenly, misfit, quiet_stretches};
@@ -57,6 +58,7 @@ use super::timing::TIMING_SIGMAS;
 use super::windows::{bin_time_fractions, break_shifts, event_shape, least_q, model_rate, window_bins};
 use rsf_fit::fit::FitResult;
 use rsf_fit::segment::Segment;
+use rsf_noise::NoiseModel;
 use serde::Serialize;
 use statrs::distribution::ContinuousCDF;
 
@@ -112,6 +114,9 @@ pub struct Adequacy {
     /// The coherence test (`coherence.rs`): do the events' misfits agree with each other beyond
     /// the noise? Part of the verdict where the event test cannot run.
     pub coherence: Coherence,
+    /// The quiet test (`quiet.rs`): is the wander the noise model counts as noise there inside
+    /// the quiet stretches of sliding? Part of the verdict.
+    pub quiet: QuietTest,
 }
 
 impl Adequacy {
@@ -127,6 +132,15 @@ impl Adequacy {
     /// The verdict in words, for the diagnosis's reason: the event test's (the coherence
     /// test's where the event test could not run), and the level test's when it ran.
     pub fn words(&self) -> String {
+        let base = self.event_and_level_words();
+        match self.quiet.words() {
+            Some(q) => format!("{q}; {base}"),
+            None => base,
+        }
+    }
+
+    /// The event and level tests' verdicts in words.
+    fn event_and_level_words(&self) -> String {
         let levels = self.levels.words();
         match (self.event_verdict, levels) {
             (AdequacyVerdict::Inadequate, Some(l)) if self.levels.inadequate() => {
@@ -173,14 +187,20 @@ impl Adequacy {
     }
 }
 
-/// The model's verdict from the event test's, the level test and the coherence test:
-/// inadequate when the levels are off ([`LevelTest::inadequate`]), or when the events could
+/// The model's verdict from the event test's, the level, quiet and coherence tests:
+/// inadequate when the levels are off ([`LevelTest::inadequate`]) or the noise model's wander
+/// is not in the quiet stretches ([`QuietTest::inadequate`]), or when the events could
 /// not be tested against placebos and their misfits agree with each other beyond the noise
 /// (`coherence.rs`); else the event test's. Where the coherence test finds nothing the record
 /// stays untestable: it compares the events with each other, not with the noise's own size.
-fn verdict_of(events: AdequacyVerdict, levels: &LevelTest, coherence: &Coherence) -> AdequacyVerdict {
+fn verdict_of(
+    events: AdequacyVerdict,
+    levels: &LevelTest,
+    quiet: &QuietTest,
+    coherence: &Coherence,
+) -> AdequacyVerdict {
     match events {
-        _ if levels.inadequate() => AdequacyVerdict::Inadequate,
+        _ if levels.inadequate() || quiet.inadequate() => AdequacyVerdict::Inadequate,
         AdequacyVerdict::Untestable if coherence.verdict == AdequacyVerdict::Inadequate => AdequacyVerdict::Inadequate,
         AdequacyVerdict::Untestable | AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => events,
     }
@@ -194,16 +214,26 @@ type Tested = (usize, f64, &'static str, f64, f64, Vec<f64>);
 /// load point's noise about the protocol's lines `load_point_sigma_um` (µm; 0 for a clean one),
 /// which sets how far each break's time is uncertain, and the fit's own uncertainty `effect`
 /// (`sensitivity.rs`; evaluated only when the record has a step to test the levels of). With
-/// `effect` `None` the level test does not run (a candidate's excess needs only the event test).
+/// `effect` `None` the level test does not run (a candidate's excess needs only the event test);
+/// with `noise` (the noise model fitted to `f`'s residuals) or the fit's effect `None`, the quiet
+/// test does not.
 pub fn adequacy(
     f: &FitResult,
     segments: &[Segment],
     load_point_sigma_um: f64,
     effect: Option<&dyn Fn() -> Option<FitEffect>>,
+    noise: Option<&NoiseModel>,
 ) -> Adequacy {
+    // the fit's effect, evaluated at most once, and only when a test needs it
+    let cached = std::cell::OnceCell::new();
+    let fit_effect = || cached.get_or_init(|| effect.and_then(|e| e())).clone();
     let levels = match effect {
-        Some(e) => level_test(f, segments, load_point_sigma_um, e),
+        Some(_) => level_test(f, segments, load_point_sigma_um, &fit_effect),
         None => LevelTest { p_value: f64::NAN, excess: f64::NAN, steps: vec![] },
+    };
+    let quiet_wander = match (noise, effect.is_some().then(fit_effect).flatten()) {
+        (Some(m), Some(e)) => quiet_test(f, segments, m, &e),
+        _ => QuietTest::untested(),
     };
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
@@ -278,7 +308,7 @@ pub fn adequacy(
     let coherence = coherence(&compared);
     if tested.len() < MIN_WINDOWS {
         return Adequacy {
-            verdict: verdict_of(AdequacyVerdict::Untestable, &levels, &coherence),
+            verdict: verdict_of(AdequacyVerdict::Untestable, &levels, &quiet_wander, &coherence),
             event_verdict: AdequacyVerdict::Untestable,
             excess: f64::NAN,
             p_value: f64::NAN,
@@ -289,6 +319,7 @@ pub fn adequacy(
             events: vec![],
             levels,
             coherence,
+            quiet: quiet_wander,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -330,7 +361,7 @@ pub fn adequacy(
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
     let event_verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
-        verdict: verdict_of(event_verdict, &levels, &coherence),
+        verdict: verdict_of(event_verdict, &levels, &quiet_wander, &coherence),
         event_verdict,
         excess,
         p_value,
@@ -341,5 +372,6 @@ pub fn adequacy(
         events: per_event,
         levels,
         coherence,
+        quiet: quiet_wander,
     }
 }

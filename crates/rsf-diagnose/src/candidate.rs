@@ -317,7 +317,7 @@ impl Ctx<'_> {
             law_undecided: undecided,
             alternatives: others,
             unfitted_ways: unfitted,
-            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, None).excess,
+            adequacy_excess: super::adequacy::adequacy(&f, &self.p.segments, self.load_point_sigma, None, None).excess,
             steps: f.steps + ho.as_ref().map_or(0, |h| h.1.steps),
             null: None,
             at_bound,

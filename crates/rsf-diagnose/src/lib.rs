@@ -63,6 +63,7 @@ mod evidence;
 mod heldout;
 mod levels;
 mod null;
+mod quiet;
 mod reconstruction;
 mod result;
 mod rule;
@@ -80,6 +81,7 @@ pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
 pub use levels::{LevelMisfit, LevelTest, level_test};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
+pub use quiet::{QuietStretch, QuietTest, quiet_test};
 pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use sensitivity::{FitEffect, fit_effect};
 

@@ -406,7 +406,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let effect = || {
         named_opts.and_then(|o| super::sensitivity::fit_effect(ctx.rec, ctx.segs, o, named_fit, ctx.load_point_sigma))
     };
-    let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect));
+    // the noise model of the named fit's own residuals, for the quiet test
+    let named_noise = super::evidence::noisy(named_fit).model;
+    let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect), Some(&named_noise));
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     // two causes the record cannot tell apart: another credible, decisive candidate within
     // UNDECIDED_DBIC of the one chosen. Nearer than that, the record prefers neither, so the
@@ -458,11 +460,16 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         super::NoiseDrift { rms: (m.drift_share * m.variance).sqrt(), share: m.drift_share, beta: m.drift_beta }
     });
     if let Some(d) = &noise_drift {
+        let (what, how) = if adequacy.quiet.inadequate() {
+            ("a slow part", "which their noise model reads as drift but the quiet stretches show to be misfit")
+        } else {
+            ("slow drift", "counted as noise")
+        };
         reason += &format!(
-            "; the residuals carry slow drift (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), counted as noise",
+            "; the residuals carry {what} (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), {how}",
             d.beta,
             d.rms,
-            100.0 * d.share
+            100.0 * d.share,
         );
     }
     Ok(Diagnosis {

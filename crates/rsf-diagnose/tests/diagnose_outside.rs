@@ -202,3 +202,38 @@ fn a_law_whose_start_runs_away_is_fitted_from_a_steadier_one() {
     assert_eq!(d.cause, Cause::EvolutionLaw, "{}", d.reason);
     assert_eq!(d.effect.law.as_deref(), Some("prz"), "{}", d.reason);
 }
+
+/// Power-law aging (n = 1.3) under AR(1) noise with no drift (record 53 of the seed-39
+/// `--outside` study): the cut-off mimics it, and its residuals — 11.6× the friction noise in
+/// rms, whole segments off and healing off after each hold — were read by their fitted noise
+/// model as a random-walk drift (all of their variance, n_eff 2), which the event and level
+/// tests then allowed for: `cutoff_velocity`, adequate, on the main before the quiet test. Inside
+/// the quiet stretches of sliding, where no model can carry error, the residuals wander a fiftieth
+/// of what that drift claims: the slow part is misfit, and nothing is named.
+#[test]
+fn a_misfit_the_noise_model_reads_as_drift_is_not_explained() {
+    let d = diagnosed_with_protocol("power_aging_read_as_drift", 0.039231950554188606);
+    let q = &d.adequacy.quiet;
+    assert_eq!(d.cause, Cause::Unexplained, "{}", d.reason);
+    assert!(q.drift_is_misfit() && q.drift_share > 0.9, "{q:?}");
+    assert!(q.ratio < 0.1 && q.p_below < 1e-4, "{q:?}");
+    // the event test alone passes the mimic: the quiet test is what catches it
+    assert_eq!(d.adequacy.event_verdict, AdequacyVerdict::Adequate);
+    assert!(d.reason.contains("quiet stretches"), "{}", d.reason);
+}
+
+/// Power-law aging (n = 1.3) under white and 1/f noise (record 0 of the seed-38 `--outside`
+/// study): the one-state Aging–Slip mixture mimics its transients to the noise in every event
+/// window — `evolution_law` (aging-slip), adequate, on the main before the quiet test — but not
+/// its approach to steady state: inside the quiet stretches of sliding, which hold the event
+/// test's placebos, the residuals wander four times as much as their noise model says.
+#[test]
+fn a_law_that_mimics_the_transients_but_not_their_tail_is_not_explained() {
+    let d = diagnosed_with_protocol("power_aging_tail", 0.03114762855987098);
+    let q = &d.adequacy.quiet;
+    assert_eq!(d.cause, Cause::Unexplained, "{}", d.reason);
+    assert_eq!(d.partial, Some(Cause::EvolutionLaw));
+    assert!(q.stretches_misfit() && !q.drift_is_misfit(), "{q:?}");
+    assert!(q.ratio > 3.0 && q.p_above < 1e-3, "{q:?}");
+    assert_eq!(d.adequacy.event_verdict, AdequacyVerdict::Adequate);
+}

@@ -278,6 +278,9 @@ fn one_over_f_drift_is_noise_not_a_cause() {
     assert!((m.drift_beta - 1.0).abs() <= 0.3, "β {}", m.drift_beta);
     assert!(m.n_effective < 0.01 * d.baseline.n as f64, "n_eff {}", m.n_effective);
     assert!(d.reason.contains("slow drift"), "{}", d.reason);
+    // real drift wanders inside the quiet stretches of sliding as much as its model says
+    let q = &d.adequacy.quiet;
+    assert!(q.stretches.len() >= 3 && q.p_below > 0.05 && q.p_above > 0.05 && !q.inadequate(), "{q:?}");
 }
 
 /// Issue 21's variable-sampling case, made by the independent generator (record 49 of the

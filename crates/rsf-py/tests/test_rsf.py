@@ -129,6 +129,10 @@ def test_diagnose_equals_the_cli():
     by = {c["cause"]: c for c in py["candidates"]}
     rf = {c["cause"]: c for c in ref["candidates"]}
     assert by["slip_trend"]["delta_bic"] == pytest.approx(rf["slip_trend"]["delta_bic"], rel=1e-9)
+    # the quiet test of the model named (docs/diagnose.md): its stretches and both tails
+    q, rq = py["adequacy"]["quiet"], ref["adequacy"]["quiet"]
+    assert len(q["stretches"]) == len(rq["stretches"]) >= 1
+    assert q["ratio"] == pytest.approx(rq["ratio"], rel=1e-9) and 0 < q["p_above"] <= 1
     # the same answer with one thread
     assert rsf.diagnose(rec, stiffness=0.0151, threads=1)["cause"] == py["cause"]
 

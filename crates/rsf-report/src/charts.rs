@@ -301,3 +301,36 @@ pub fn coherence_svg(d: &Diagnosis) -> Result<String, PlotError> {
     panel = panel.with(Series::dashed(None, vec![(x0, 0.0), (x1, 0.0)], GREY));
     render("", &[panel], 1, (760, 340))
 }
+
+/// The quiet test (`diagnose/quiet.rs`): each quiet stretch of sliding's wander (the residual's
+/// mean over its last quarter minus its first), against the standard deviation the fitted noise
+/// model gives it. Empty when no stretch was tested.
+pub fn quiet_svg(d: &Diagnosis) -> Result<String, PlotError> {
+    let q = &d.adequacy.quiet;
+    if q.stretches.is_empty() {
+        return Ok(String::new());
+    }
+    let mid = |t: [f64; 2]| 0.5 * (t[0] + t[1]);
+    let floor = q.stretches.iter().map(|s| s.claimed).fold(f64::INFINITY, f64::min) * 1e-3;
+    let seen: Vec<(f64, f64)> = q.stretches.iter().map(|s| (mid(s.t), s.wander.abs().max(floor))).collect();
+    let claimed: Vec<(f64, f64)> = q.stretches.iter().map(|s| (mid(s.t), s.claimed)).collect();
+    let panel = Panel::new(
+        format!(
+            "Quiet stretches: wander {}× the noise model's, in variance — {}",
+            fmt_num(q.ratio, 3),
+            if q.drift_is_misfit() {
+                "its drift is misfit"
+            } else if q.stretches_misfit() {
+                "misfit after the transients"
+            } else {
+                "as the noise"
+            }
+        ),
+        "middle of the quiet stretch (s)",
+        "|wander| across the stretch (friction)",
+    )
+    .log_y()
+    .with(Series::points("wander seen".to_string(), seen, BASELINE))
+    .with(Series::points("the noise model's standard deviation".to_string(), claimed, GREY));
+    render("", &[panel], 1, (760, 300))
+}

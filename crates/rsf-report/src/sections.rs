@@ -351,7 +351,51 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
         esc(&words),
         chart(charts::adequacy_svg(d)) + &chart(charts::coherence_svg(d)),
         if rows.is_empty() { String::new() } else { table("", &head, &rows) },
-        levels(d)
+        levels(d) + &quiet(d)
+    )
+}
+
+/// The quiet test: in words, and each quiet stretch's wander against the noise model's.
+fn quiet(d: &Diagnosis) -> String {
+    let q = &d.adequacy.quiet;
+    if !q.ratio.is_finite() {
+        return String::new();
+    }
+    let words = format!(
+        "Quiet stretches: inside {} stretches of steady sliding, after each segment's transient, every model \
+         predicts a constant friction, so the residuals there wander only as the noise does. They wander {}× as \
+         much (in variance) as the noise model fitted to them ({}% of their variance in its slow drift) says \
+         (p = {} for so little wander, were its claim no more than twice the truth; p = {} for so much). {}",
+        q.stretches.len(),
+        fmt_num(q.ratio, 3),
+        fmt_num(100.0 * q.drift_share, 2),
+        fmt_num(q.p_below, 2),
+        fmt_num(q.p_above, 2),
+        if q.drift_is_misfit() {
+            "The slow part of the residuals is therefore not noise: it is misfit locked to the protocol (segments \
+             at the wrong level, healing that is off after holds), which the drift part of the noise model \
+             absorbed. The model does not explain the record, whatever its events say."
+        } else if q.stretches_misfit() {
+            "The model still misfits where its transients should be over: its approach to steady state is not \
+             the record's, and the event test, whose quiet windows lie in these stretches, cannot see it. The \
+             model does not explain the record."
+        } else {
+            "The noise model describes the residuals where no model can carry error."
+        }
+    );
+    let rows: Vec<(String, Vec<String>)> = q
+        .stretches
+        .iter()
+        .map(|x| {
+            (String::new(), vec![fmt_num(x.t[0], 5), fmt_num(x.t[1], 5), fmt_num(x.wander, 3), fmt_num(x.claimed, 3)])
+        })
+        .collect();
+    let head = ["from t (s)", "to t (s)", "wander (last − first quarter)", "noise model's sd"];
+    format!(
+        "<p class=\"note\">{}</p>{}{}",
+        esc(&words),
+        chart(charts::quiet_svg(d)),
+        if q.inadequate() { table("", &head, &rows) } else { String::new() }
     )
 }
 

@@ -110,5 +110,7 @@ def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffn
     """Diagnoses every record, as ``rsf batch --diagnose`` does (``fit=True``: ``--fit
     --diagnose``); see :func:`fit_many`. The table adds ``cause``, ``delta_bic``,
     ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess``,
-    ``events_tested`` (of ``events``, the record's steps and reslides) and ``drift_rms``."""
+    ``events_tested`` (of ``events``, the record's steps and reslides), ``drift_rms`` and
+    ``quiet_wander`` (the named model's residuals' wander in the quiet stretches of sliding over
+    what their noise model says, in variance: far below 1 when its drift is misfit)."""
     return _many(manifest_or_paths, stiffness, client, fit, True, progress, options, allow_outside)
