@@ -285,6 +285,24 @@ pub struct NoiseDrift {
     pub beta: f64,
 }
 
+impl NoiseDrift {
+    /// The drift in words, for the diagnosis's reason: counted as noise, or — when the quiet
+    /// test finds it to be misfit (`misfit`, `quiet.rs`) — said to be misfit.
+    pub fn words(&self, misfit: bool) -> String {
+        let (what, how) = if misfit {
+            ("a slow part", "which their noise model reads as drift but the quiet stretches show to be misfit")
+        } else {
+            ("slow drift", "counted as noise")
+        };
+        format!(
+            "the residuals carry {what} (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), {how}",
+            self.beta,
+            self.rms,
+            100.0 * self.share
+        )
+    }
+}
+
 /// Two extensions that disagree about the record: `better` scores better on the whole record
 /// but predicts the held-out part worse than the baseline (or cannot be fitted to the training
 /// part), while the one chosen predicts it no worse than the baseline does. A record whose

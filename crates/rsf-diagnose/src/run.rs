@@ -460,17 +460,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         super::NoiseDrift { rms: (m.drift_share * m.variance).sqrt(), share: m.drift_share, beta: m.drift_beta }
     });
     if let Some(d) = &noise_drift {
-        let (what, how) = if adequacy.quiet.inadequate() {
-            ("a slow part", "which their noise model reads as drift but the quiet stretches show to be misfit")
-        } else {
-            ("slow drift", "counted as noise")
-        };
-        reason += &format!(
-            "; the residuals carry {what} (spectrum ∝ f^-{:.1}, rms {:.1e}, {:.0}% of their variance), {how}",
-            d.beta,
-            d.rms,
-            100.0 * d.share,
-        );
+        reason += &format!("; {}", d.words(adequacy.quiet.inadequate()));
     }
     Ok(Diagnosis {
         cause,
