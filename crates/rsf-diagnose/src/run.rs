@@ -406,8 +406,12 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let effect = || {
         named_opts.and_then(|o| super::sensitivity::fit_effect(ctx.rec, ctx.segs, o, named_fit, ctx.load_point_sigma))
     };
-    // the noise model of the named fit's own residuals, for the quiet test
-    let named_noise = super::evidence::noisy(named_fit).model;
+    // the noise model of the named fit's own residuals: the quiet test's, and the drift the
+    // reason reports (the baseline's was fitted once already)
+    let named_noise = match (&secondary, chosen.and_then(|c| c.fit.as_ref())) {
+        (None, None) => ctx.base_noise.model.clone(),
+        _ => noisy(named_fit).model,
+    };
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect), Some(&named_noise));
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     // two causes the record cannot tell apart: another credible, decisive candidate within
@@ -452,11 +456,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     }
     // the drift left in the residuals of the model named (the baseline's hold the named cause's
     // misfit as well, which their noise model reads as drift)
-    let final_noise = match chosen.and_then(|c| c.fit.as_ref()) {
-        Some(f) => Some(noisy(f).model),
-        None => ctx.ev.noise.clone(),
-    };
-    let noise_drift = final_noise.as_ref().filter(|m| m.drift_share >= super::DRIFT_NOTE_SHARE).map(|m| {
+    let noise_drift = Some(&named_noise).filter(|m| m.drift_share >= super::DRIFT_NOTE_SHARE).map(|m| {
         super::NoiseDrift { rms: (m.drift_share * m.variance).sqrt(), share: m.drift_share, beta: m.drift_beta }
     });
     if let Some(d) = &noise_drift {
