@@ -227,11 +227,21 @@ pub fn design_basis(rec: &Record, segs: &[Segment], d: &Basis<'_>, o: &DesignOpt
     }
     let best = scored[0].proposal.clone();
     let curves = ctx.score(&best, v_end).map(|(_, c)| c).unwrap_or_default();
-    let standards: Vec<Ranked> = standards(v_end, scored[0].machine_time_s, dc_ref, o)
-        .into_iter()
-        .filter_map(|(kind, p)| ctx.score(&p, v_end).map(|(r, _)| Ranked { standard: Some(kind), ..r }))
-        .collect();
+    let mut scored_standards: Vec<Ranked> = vec![];
+    for (kind, p) in standards(v_end, scored[0].machine_time_s, dc_ref, o) {
+        match ctx.score(&p, v_end) {
+            Some((r, _)) => scored_standards.push(Ranked { standard: Some(kind), ..r }),
+            // as a proposal would be: left out, and said
+            None => notes.push(format!(
+                "the standard {} ({}) is left out: a credible model's fit cannot be run through it (a run-away, \
+                 or the solver's step budget)",
+                kind,
+                p.describe(v_end)
+            )),
+        }
+    }
     // the best as the ranking orders them: one in which no model runs away, then the score
+    let standards = scored_standards;
     let standard =
         standards.iter().max_by(|a, b| b.stick_slip.cmp(&a.stick_slip).then(a.score.total_cmp(&b.score))).cloned();
     let summary = summarize(&scored[0], standard.as_ref(), &models);

@@ -44,7 +44,8 @@ fn designed(name: &str) -> (Diagnosis, Design) {
 
 /// An inadequate best model is not "one credible model": the design keeps the other laws and
 /// candidates as rivals, proposes a segment, and scores the three standard segments of its
-/// machine time beside it.
+/// machine time beside it — or says which it left out because a rival runs away in it (here
+/// PRZ's fit, in the hold–reslide standard's 1.5 h hold).
 #[test]
 fn a_model_that_does_not_explain_the_record_is_no_reason_to_stop() {
     let (d, g) = designed("rate_a_steps");
@@ -55,8 +56,17 @@ fn a_model_that_does_not_explain_the_record_is_no_reason_to_stop() {
     assert!(g.models.iter().any(|m| m.name.starts_with("evolution_law (")), "no other law kept");
     assert!(!g.proposals.is_empty(), "{}", g.summary);
     assert!(g.notes.iter().any(|n| n.contains("does not explain the record")), "{:?}", g.notes);
+    // every standard segment of the proposal's machine time is scored beside it, or said to
+    // be left out (a rival that runs away in it, as a proposal would be)
     let kinds: Vec<StandardKind> = g.standards.iter().filter_map(|s| s.standard).collect();
-    assert_eq!(kinds, StandardKind::ALL);
+    for k in StandardKind::ALL {
+        assert!(
+            kinds.contains(k) || g.notes.iter().any(|n| n.contains(&format!("the standard {k} ("))),
+            "{k}: {:?}",
+            g.notes
+        );
+    }
+    assert!(kinds.len() >= 2, "{kinds:?}");
     for s in &g.standards {
         assert!(s.machine_time_s <= g.proposals[0].machine_time_s * (1.0 + 1e-9));
         assert!(s.slip_um <= 1000.0 * (1.0 + 1e-9));

@@ -1,18 +1,18 @@
 //! One candidate extension: fitting it from the baseline (with the stiffness's softer
-//! starts), its held-out test, its null calibration, and a second cause on top of the first.
+//! starts), choosing among its ways, scoring it, and its held-out test. Its null calibration is
+//! in `null.rs`, a second cause on top of the first in `combination.rs`.
 
 use super::cause::{Cause, builtin, effect_of, library_laws, other_law};
-use super::decide::{BLIND_DECISIVE, heldout_ok, ineligible, merge};
-use super::evidence::{Noisy, noisy, scores};
+use super::decide::BLIND_DECISIVE;
+use super::evidence::{Noisy, Scored, best_lls, noisy, scores, scores_of};
 use super::heldout::heldout;
-use super::null::{calibrate, gain, replicate, replicate_load_point};
 use super::starts::fit_from;
-use super::{Alternative, Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_SIGMAS, Secondary};
+use super::{Alternative, Candidate, DECISIVE, DiagnoseOptions, Evidence, STIFFNESS_SIGMAS};
 use rsf_fit::data::Record;
-use rsf_fit::fit::{Budget, FitOptions, FitResult, ParamName, Params, Prepared, fit, prepare};
-use rsf_fit::parallel::par_map;
-use rsf_fit::segment::{Segment, SegmentOptions, detect};
+use rsf_fit::fit::{Budget, FitOptions, FitResult, Params, Prepared, prepare};
+use rsf_fit::segment::Segment;
 use rsf_laws::Law;
+use rsf_noise::NoiseModel;
 
 /// A cut-off's healing term e^(−V/Vc) is e^(−10) ≈ 5e-5 of its full size at V = 10 Vc: a
 /// training part whose slip rates all stay above this multiple of the fitted Vc cannot see it.
@@ -33,6 +33,11 @@ pub(super) struct FullFit {
     pub(super) o: FitOptions,
     pub(super) f: FitResult,
     pub(super) nf: Noisy,
+    /// ΔBIC and ΔAIC against the baseline, every fit scored under the same noise models
+    /// ([`rescore`]).
+    pub(super) score: (f64, f64),
+    /// The noise of each of `others`, in their order.
+    pub(super) others_noise: Vec<Noisy>,
     /// Other one-law ways of the cause that explain the record as well (see
     /// [`Candidate::equally_good_laws`]).
     pub(super) alike: Vec<String>,
@@ -45,6 +50,47 @@ pub(super) struct FullFit {
     pub(super) unfitted: Vec<String>,
 }
 
+impl FullFit {
+    /// Replaces the fit by `f`, with its noise; [`rescore`] scores it.
+    pub(super) fn replace(&mut self, f: FitResult) {
+        self.nf = noisy(&f);
+        self.f = f;
+    }
+}
+
+/// Scores every cause's fits — the way each chose and its other ways — and the baseline
+/// `base` (noise `bn`) under the best of all the noise models fitted to any of them
+/// ([`best_lls`]), so that the candidates' ΔBIC compare with one another on one footing.
+pub(super) fn rescore<'a>(base: &FitResult, bn: &Noisy, fulls: impl Iterator<Item = &'a mut FullFit>) {
+    let mut fulls: Vec<&mut FullFit> = fulls.collect();
+    let scored = {
+        let rulers: Vec<&NoiseModel> = std::iter::once(&bn.model)
+            .chain(
+                fulls
+                    .iter()
+                    .flat_map(|ff| std::iter::once(&ff.nf.model).chain(ff.others_noise.iter().map(|n| &n.model))),
+            )
+            .collect();
+        let all: Vec<(&FitResult, Scored)> = std::iter::once((base, Scored::of(bn)))
+            .chain(fulls.iter().flat_map(|ff| {
+                std::iter::once((&ff.f, Scored::of(&ff.nf)))
+                    .chain(ff.others.iter().zip(&ff.others_noise).map(|(a, n)| (&a.fit, Scored::of(n))))
+            }))
+            .collect();
+        best_lls(&all, &rulers)
+    };
+    let sb = scored[0];
+    let mut next = scored[1..].iter();
+    for ff in fulls.iter_mut() {
+        let Some(&se) = next.next() else { return };
+        ff.score = scores_of(base, sb, &ff.f, se);
+        for a in ff.others.iter_mut() {
+            let Some(&se) = next.next() else { return };
+            (a.delta_bic, a.delta_aic) = scores_of(base, sb, &a.fit, se);
+        }
+    }
+}
+
 /// A free stiffness fitted from the nominal k that stays above this fraction of it has not
 /// moved off the nominal (a stiff nominal leaves no gradient in k): softer starts are tried.
 const K_STUCK_FRACTION: f64 = 0.8;
@@ -54,13 +100,6 @@ const K_SOFTER_STARTS: [f64; 2] = [4.0, 16.0];
 /// The reload-slope k is a further start when it differs from the nominal by more than this
 /// in ln k (22%): closer, the nominal start already covers it.
 const K_RELOAD_LN_DIFF: f64 = 0.2;
-/// The null calibration's sequential test: after (a share of the replicates), stop when the
-/// false-alarm probability is below `below`·level or above `above`·level — so far from the
-/// level either way that more replicates cannot change the verdict.
-const NULL_STAGES: [(f64, f64, f64); 2] = [(0.25, 1e-4, 100.0), (0.5, 1e-2, 10.0)];
-/// The first stage of the sequential test runs at least this many replicates.
-const NULL_MIN_FIRST_STAGE: usize = 4;
-
 /// What the candidates share: the record, the baseline and its evidence.
 pub(super) struct Ctx<'a> {
     pub(super) rec: &'a Record,
@@ -177,22 +216,32 @@ impl Ctx<'_> {
                 single = Some(f.params.clone());
             }
             let en = noisy(&f);
-            fitted.push((scores(base, bn, &f, &en).0, (ext, o, pc, f, en)));
+            fitted.push((ext, o, pc, f, en));
         }
+        // every way scored under the best of the noise models fitted to any of them and to the
+        // baseline (`best_lls`): a comparison of laws is not decided by whose noise estimate
+        // landed nearer its maximum
+        let rulers: Vec<&NoiseModel> = std::iter::once(&bn.model).chain(fitted.iter().map(|w| &w.4.model)).collect();
+        let all: Vec<(&FitResult, Scored)> =
+            std::iter::once((base, Scored::of(bn))).chain(fitted.iter().map(|w| (&w.3, Scored::of(&w.4)))).collect();
+        let s = best_lls(&all, &rulers);
+        let pooled: Vec<(f64, f64)> =
+            fitted.iter().zip(&s[1..]).map(|(w, &se)| scores_of(base, s[0], &w.3, se)).collect();
+        let mut fitted: Vec<_> = fitted.into_iter().zip(pooled).map(|(w, s)| (s.0, s, w)).collect();
         let best = fitted.iter().enumerate().min_by(|a, b| a.1.0.total_cmp(&b.1.0)).map(|(i, _)| i)?;
         let one_law = |o: &FitOptions| (o.laws.len() == 1).then(|| o.laws[0].name());
         let best_score = fitted[best].0;
         // the one-law ways that the record cannot tell from the best: within the decisive
         // threshold of its score (e.g. PRZ and power-law aging at n = 2, the same model)
-        let tied: Vec<usize> = match one_law(&fitted[best].1.1) {
+        let tied: Vec<usize> = match one_law(&fitted[best].2.1) {
             Some(_) => (0..fitted.len())
-                .filter(|&i| one_law(&fitted[i].1.1).is_some() && fitted[i].0 - best_score < -DECISIVE)
+                .filter(|&i| one_law(&fitted[i].2.1).is_some() && fitted[i].0 - best_score < -DECISIVE)
                 .collect(),
             None => vec![best],
         };
         // of those, the one with the fewest free parameters is named (the best-scoring of them):
         // a law the record cannot tell from a freer one is the simpler claim
-        let free = |i: usize| fitted[i].1.3.n_free;
+        let free = |i: usize| fitted[i].2.3.n_free;
         let chosen =
             tied.iter().copied().min_by(|&a, &b| free(a).cmp(&free(b)).then(fitted[a].0.total_cmp(&fitted[b].0)));
         let chosen = chosen.unwrap_or(best);
@@ -202,18 +251,17 @@ impl Ctx<'_> {
         let alike: Vec<String> = tied
             .iter()
             .filter(|&&i| i != chosen && (!undecided || free(i) == free(chosen)))
-            .filter_map(|&i| one_law(&fitted[i].1.1))
+            .filter_map(|&i| one_law(&fitted[i].2.1))
             .collect();
-        let (_, (extension, o, _, f, nf)) = fitted.swap_remove(chosen);
-        // the other ways, in the order fitted, each scored against the baseline
-        let others = fitted
+        let (_, score, (extension, o, _, f, nf)) = fitted.swap_remove(chosen);
+        // the other ways, in the order fitted, each scored against the baseline, with its noise
+        let (others, others_noise) = fitted
             .into_iter()
-            .map(|(_, (extension, options, _, fit, nf))| {
-                let (delta_bic, delta_aic) = scores(base, bn, &fit, &nf);
-                Alternative { extension, delta_bic, delta_aic, converged: fit.converged, fit, options }
+            .map(|(_, (delta_bic, delta_aic), (extension, options, _, fit, nf))| {
+                (Alternative { extension, delta_bic, delta_aic, converged: fit.converged, fit, options }, nf)
             })
-            .collect();
-        Some(FullFit { extension, o, f, nf, alike, undecided, others, unfitted })
+            .unzip();
+        Some(FullFit { extension, o, f, nf, score, others_noise, alike, undecided, others, unfitted })
     }
 
     /// Whether the held-out test's training part is blind to `cause` as fitted in `f`: a cut-off
@@ -282,7 +330,7 @@ impl Ctx<'_> {
 
     /// The candidate `cause` from its fit on the whole record and its held-out test.
     pub(super) fn candidate(&self, cause: Cause, full: FullFit, ho: Option<(f64, FitResult)>) -> Candidate {
-        let FullFit { extension, o, f, nf, alike, undecided, others, unfitted } = full;
+        let FullFit { extension, o, f, nf, score, alike, undecided, others, unfitted, .. } = full;
         // the laws the record cannot tell apart are named together, none of them alone
         let (extension, alike) = match o.laws.as_slice() {
             [law] if undecided => {
@@ -291,7 +339,7 @@ impl Ctx<'_> {
             }
             _ => (extension, alike),
         };
-        let (dbic, daic) = scores(&self.base, &self.base_noise, &f, &nf);
+        let (dbic, daic) = score;
         // parameters at a bound that the baseline did not already have there
         let at_bound = f.at_bound.iter().filter(|n| !self.base.at_bound.contains(n)).cloned().collect();
         // the extension's gain on the training part alone
@@ -333,7 +381,7 @@ impl Ctx<'_> {
     /// uncertainties of the nominal, or an added state whose Dc is shorter than the slip between two samples at the
     /// fastest load-point rate (the record cannot resolve it: such a state only reshapes the
     /// first sample after a step).
-    fn unresolved(&self, cause: Cause, f: &FitResult) -> Option<String> {
+    pub(super) fn unresolved(&self, cause: Cause, f: &FitResult) -> Option<String> {
         let nominal = self.base_opts.stiffness;
         match cause {
             Cause::Stiffness
@@ -380,152 +428,6 @@ impl Ctx<'_> {
         d.sort_by(f64::total_cmp);
         d.get(d.len() / 2).map_or(0.0, |dt| s.v * dt)
     }
-
-    /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
-    /// each refitted with the baseline and with the candidate from the replicate's baseline.
-    pub(super) fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
-        // the replicates' noise: fitted to the candidate's residuals, not the baseline's — the
-        // baseline's hold its misfit too, which a noise model would read as drift and the null
-        // would then reproduce (as the F test takes the larger model's residual variance); a
-        // spurious candidate that absorbs drift leaves the rest of the drift in its residuals
-        let nc = noisy(c.fit.as_ref()?);
-        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?, &nc);
-        let noise = nc.model;
-        let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
-        let one = |seed: &u64| -> Option<f64> {
-            let seed = *seed;
-            let mut rec = replicate(&self.p, &self.base, &noise, seed);
-            // a noisy load point: the replicate gets its own, and its own reconstructed protocol
-            let segs = match self.lp_noise {
-                Some(sx) => {
-                    replicate_load_point(&self.p, &mut rec, sx, seed);
-                    detect(&rec.time, &rec.load_point, &SegmentOptions::default())
-                }
-                None => self.p.segments.clone(),
-            };
-            let mut o = self.base_opts.clone();
-            o.initial = self
-                .base
-                .params
-                .as_initial()
-                .into_iter()
-                .filter(|(n, _)| *n != ParamName::G || o.fit_slip_trend)
-                .collect();
-            o.starts = 1;
-            let pb = prepare(&rec, &segs, &o).ok()?;
-            let fb = fit(&pb, &o).ok()?;
-            let nb = noisy(&fb);
-            let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
-            // the classic ways and the way the record chose: a null replicate of every law of
-            // the library would cost three more fits of the evolution law per replicate
-            let fc = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
-            Some(gain(&fb, &nb, &fc.f, &fc.nf))
-        };
-        let seeds: Vec<u64> =
-            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        // a sequential test (NULL_STAGES): a quarter of the replicates, then half, then all.
-        // The same seeds in the same order keep the result deterministic.
-        let (level, n) = (self.opts.false_alarm_level, seeds.len());
-        let mut gains = vec![];
-        for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
-            let upto = (n as f64 * share).ceil() as usize;
-            let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
-            if upto >= n || upto <= gains.len() {
-                continue;
-            }
-            gains.extend(par_map(&seeds[gains.len()..upto], self.opts.threads, one));
-            let decided = calibrate(observed, &gains, dk).filter(|c| {
-                let p = c.false_alarm_probability;
-                p < below * level || p > above * level
-            });
-            if decided.is_some() {
-                return decided;
-            }
-        }
-        gains.extend(par_map(&seeds[gains.len()..], self.opts.threads, one));
-        calibrate(observed, &gains, dk)
-    }
-}
-
-/// A second cause: the winner combined with the two best other credible candidates (further
-/// ones explain less and cost as much), scored against the winner alone with the winner's n_eff.
-pub(super) fn secondary(ctx: &Ctx, c1: &Candidate, decisive: &[&Candidate], level: f64) -> Option<Secondary> {
-    let f1 = c1.fit.as_ref()?;
-    let others: Vec<&Candidate> =
-        decisive.iter().copied().filter(|c| ineligible(c, level).is_none() && c.cause != c1.cause).take(2).collect();
-    let nf1 = noisy(f1);
-    let o1 = c1.options.clone()?;
-    let threads = ctx.opts.threads;
-    // the combinations' fits on the whole record and their held-out tests, all side by side
-    // (each held-out fit starts from the two training optima, never from a fit that saw the
-    // held-out part)
-    let jobs: Vec<(usize, bool)> = (0..others.len())
-        .map(|i| (i, false))
-        .chain((0..others.len()).filter(|_| ctx.opts.heldout).map(|i| (i, true)))
-        .collect();
-    enum Part {
-        Full(Option<Box<(FitOptions, FitResult)>>),
-        Heldout(Option<f64>),
-    }
-    let parts = par_map(&jobs, threads, |&(i, held_out)| {
-        let c2 = others[i];
-        let Some(o) = c2.cause.extend(&o1, &ctx.base_law) else {
-            return if held_out { Part::Heldout(None) } else { Part::Full(None) };
-        };
-        let Ok(pc) = prepare(ctx.rec, ctx.segs, &o) else {
-            return if held_out { Part::Heldout(None) } else { Part::Full(None) };
-        };
-        if held_out {
-            let ho = match (&c1.heldout_fit, &c2.heldout_fit) {
-                (Some(ft1), Some(ft2)) => {
-                    let from = merge(&ft1.params, &ft2.params, c2.cause);
-                    let train = |pt: &Prepared, ot: &FitOptions| ctx.fit_best(pt, ot, &from, 1);
-                    heldout(&pc.record, &pc.segments, &o, &train, ctx.t_split).map(|h| h.0)
-                }
-                _ => None,
-            };
-            return Part::Heldout(ho);
-        }
-        // from both optima: the winner's, with the added extension's parameters from its own
-        // fit (no second Vc profile, no second search for a soft machine)
-        let from = c2.fit.as_ref().map_or_else(|| f1.params.clone(), |f2| merge(&f1.params, &f2.params, c2.cause));
-        Part::Full(ctx.fit_best(&pc, &o, &from, 1).map(|f| Box::new((o, f))))
-    });
-    let (full, held): (Vec<Part>, Vec<Part>) = parts.into_iter().partition(|p| matches!(p, Part::Full(_)));
-    let held: Vec<Option<f64>> = held.into_iter().map(|p| if let Part::Heldout(h) = p { h } else { None }).collect();
-    let tries: Vec<Option<Secondary>> = full
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let Part::Full(Some(b)) = p else { return None };
-            let (_, f) = *b;
-            let c2 = others[i];
-            let (dbic, _) = scores(f1, &nf1, &f, &noisy(&f));
-            Some(Secondary {
-                cause: c2.cause,
-                delta_bic: dbic,
-                rms_ratio: f.rms / f1.rms,
-                heldout_rms_before: c1.heldout_rms_after,
-                heldout_rms_after: held.get(i).copied().flatten(),
-                // a law left unnamed on its own is not named in a combination either
-                effect: if [c1, c2].iter().any(|c| c.law_undecided) {
-                    effect_of(&[c1.cause, c2.cause], &f).without_law()
-                } else {
-                    effect_of(&[c1.cause, c2.cause], &f)
-                },
-                fit: f,
-            })
-        })
-        .collect();
-    tries
-        .into_iter()
-        .flatten()
-        .filter(|s| {
-            s.delta_bic < DECISIVE
-                && heldout_ok(s.heldout_rms_before, s.heldout_rms_after)
-                && s.fit.at_bound.iter().all(|n| f1.at_bound.contains(n))
-        })
-        .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
 }
 
 /// A mixture's start from the other law's optimum `p` (one state): the baseline's law and the

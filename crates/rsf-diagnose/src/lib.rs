@@ -57,6 +57,7 @@ mod adequacy;
 mod candidate;
 mod cause;
 mod coherence;
+mod combination;
 mod decide;
 pub mod events;
 mod evidence;

@@ -10,17 +10,22 @@
 //! curve plus noise drawn with the spectrum fitted to the candidate's residuals (white, AR(1) and
 //! 1/f-like drift parts, `noise.rs`), refitted with the baseline and with the candidate
 //! exactly as the record was. With tens of replicates the far tail cannot be counted, so the
-//! replicates' gains G = 2 Δln L (each model with its own fitted noise) are matched by moments
+//! replicates' gains G = 2 Δln L (each model with its own fitted noise, or the other's where
+//! it scores better, as the record's own gain is measured: `evidence::best_lls`) are matched by moments
 //! to a scaled chi-square c·χ²_d (Satterthwaite), and
 //! the false-alarm probability is its upper tail at the observed gain. The count of replicates
 //! that reached the observed gain is reported beside it.
 
-use super::evidence::{Noisy, compare};
+use super::Candidate;
+use super::candidate::Ctx;
+use super::evidence::{Noisy, compare, noisy};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rsf_fit::data::Record;
-use rsf_fit::fit::{FitResult, Prepared};
+use rsf_fit::fit::{FitOptions, FitResult, ParamName, Prepared, fit, prepare};
+use rsf_fit::parallel::par_map;
+use rsf_fit::segment::{SegmentOptions, detect};
 use rsf_noise::NoiseModel;
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
@@ -95,7 +100,7 @@ pub(super) fn replicate_load_point(p: &Prepared, rec: &mut Record, sigma_x: f64,
 }
 
 /// The gain G of `ext` (noise `en`) over `base` (noise `bn`): the likelihood-ratio statistic
-/// 2 Δln L, each model with its own fitted noise.
+/// 2 Δln L, each model with its own fitted noise or the other's where it scores better.
 pub(super) fn gain(base: &FitResult, bn: &Noisy, ext: &FitResult, en: &Noisy) -> f64 {
     2.0 * compare(base, bn, ext, en).0
 }
@@ -135,6 +140,80 @@ pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Optio
         false_alarm_probability: p,
         uninformative,
     })
+}
+
+/// The null calibration's sequential test: after (a share of the replicates), stop when the
+/// false-alarm probability is below `below`·level or above `above`·level — so far from the
+/// level either way that more replicates cannot change the verdict.
+const NULL_STAGES: [(f64, f64, f64); 2] = [(0.25, 1e-4, 100.0), (0.5, 1e-2, 10.0)];
+/// The first stage of the sequential test runs at least this many replicates.
+const NULL_MIN_FIRST_STAGE: usize = 4;
+
+impl Ctx<'_> {
+    /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
+    /// each refitted with the baseline and with the candidate from the replicate's baseline.
+    pub(super) fn calibrate(&self, c: &Candidate) -> Option<super::NullCalibration> {
+        // the replicates' noise: fitted to the candidate's residuals, not the baseline's — the
+        // baseline's hold its misfit too, which a noise model would read as drift and the null
+        // would then reproduce (as the F test takes the larger model's residual variance); a
+        // spurious candidate that absorbs drift leaves the rest of the drift in its residuals
+        let nc = noisy(c.fit.as_ref()?);
+        let observed = gain(&self.base, &self.base_noise, c.fit.as_ref()?, &nc);
+        let noise = nc.model;
+        let dk = c.fit.as_ref()?.n_free.saturating_sub(self.base.n_free);
+        let one = |seed: &u64| -> Option<f64> {
+            let seed = *seed;
+            let mut rec = replicate(&self.p, &self.base, &noise, seed);
+            // a noisy load point: the replicate gets its own, and its own reconstructed protocol
+            let segs = match self.lp_noise {
+                Some(sx) => {
+                    replicate_load_point(&self.p, &mut rec, sx, seed);
+                    detect(&rec.time, &rec.load_point, &SegmentOptions::default())
+                }
+                None => self.p.segments.clone(),
+            };
+            let mut o = self.base_opts.clone();
+            o.initial = self
+                .base
+                .params
+                .as_initial()
+                .into_iter()
+                .filter(|(n, _)| *n != ParamName::G || o.fit_slip_trend)
+                .collect();
+            o.starts = 1;
+            let pb = prepare(&rec, &segs, &o).ok()?;
+            let fb = fit(&pb, &o).ok()?;
+            let nb = noisy(&fb);
+            let pc_of = |oc: &FitOptions| prepare(&rec, &segs, oc).ok();
+            // the classic ways and the way the record chose: a null replicate of every law of
+            // the library would cost three more fits of the evolution law per replicate
+            let fc = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
+            Some(gain(&fb, &nb, &fc.f, &fc.nf))
+        };
+        let seeds: Vec<u64> =
+            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
+        // a sequential test (NULL_STAGES): a quarter of the replicates, then half, then all.
+        // The same seeds in the same order keep the result deterministic.
+        let (level, n) = (self.opts.false_alarm_level, seeds.len());
+        let mut gains = vec![];
+        for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
+            let upto = (n as f64 * share).ceil() as usize;
+            let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
+            if upto >= n || upto <= gains.len() {
+                continue;
+            }
+            gains.extend(par_map(&seeds[gains.len()..upto], self.opts.threads, one));
+            let decided = calibrate(observed, &gains, dk).filter(|c| {
+                let p = c.false_alarm_probability;
+                p < below * level || p > above * level
+            });
+            if decided.is_some() {
+                return decided;
+            }
+        }
+        gains.extend(par_map(&seeds[gains.len()..], self.opts.threads, one));
+        calibrate(observed, &gains, dk)
+    }
 }
 
 #[cfg(test)]

@@ -116,11 +116,17 @@ impl QuietTest {
     pub fn words(&self) -> Option<String> {
         let k = self.stretches.len();
         if self.drift_is_misfit() {
+            // the slow part is the drift, or an AR(1) part of long correlation time where the
+            // exact likelihood preferred one
+            let held = if self.drift_share >= crate::DRIFT_NOTE_SHARE {
+                format!("the noise model counts {:.0}% of their variance as drift", 100.0 * self.drift_share)
+            } else {
+                "their noise model makes them wander slowly".to_string()
+            };
             Some(format!(
-                "its residuals' slow part is misfit, not noise: the noise model counts {:.0}% of their variance as \
-                 drift, yet inside the {k} quiet stretches of steady sliding, where no model can carry error, they \
-                 wander {:.2}× as much in variance as that noise would make them (p = {})",
-                100.0 * self.drift_share,
+                "its residuals' slow part is misfit, not noise: {held}, yet inside the {k} quiet stretches of steady \
+                 sliding, where no model can carry error, they wander {:.2}× as much in variance as that noise would \
+                 make them (p = {})",
                 self.ratio,
                 p_words(self.p_below)
             ))

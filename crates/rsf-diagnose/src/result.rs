@@ -195,6 +195,9 @@ pub struct Secondary {
     pub effect: Effect,
     /// The combined fit.
     pub fit: FitResult,
+    /// The options it was fitted with (the level and quiet tests' fit effect).
+    #[serde(skip)]
+    pub options: Option<FitOptions>,
 }
 
 /// The diagnosis.

@@ -2,8 +2,9 @@
 //! null calibration, the decision.
 
 use super::adequacy::adequacy;
-use super::candidate::{Ctx, FullFit, secondary};
+use super::candidate::{Ctx, FullFit, rescore};
 use super::cause::Cause;
+use super::combination::secondary;
 use super::decide::{ineligible, judge_adequacy, pair_words, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
@@ -336,17 +337,18 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         ho.as_ref().and_then(|(_, ft)| ctx.continued_from_training(ff, ft))
     });
     lap("continued fits");
-    let mut candidates: Vec<Candidate> = fulls
+    let mut fulls: Vec<(Cause, FullFit, HeldOut)> = fulls
         .into_iter()
         .zip(continued)
         .map(|((c, mut ff, ho), better)| {
             if let Some(f) = better {
-                ff.nf = noisy(&f);
-                ff.f = f;
+                ff.replace(f);
             }
-            ctx.candidate(c, ff, ho)
+            (c, ff, ho)
         })
         .collect();
+    rescore(&ctx.base, &ctx.base_noise, fulls.iter_mut().map(|x| &mut x.1));
+    let mut candidates: Vec<Candidate> = fulls.into_iter().map(|(c, ff, ho)| ctx.candidate(c, ff, ho)).collect();
     let mut ev = ctx.ev.clone();
     (ev.dc_consistency_chi2, ev.dc_vs_ln_step, ev.dc_vs_ln_hold) = dc_consistency(&per_segment);
     candidates.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
@@ -396,10 +398,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the adequacy of the model named (with its second cause), or of the baseline for `none`:
     // a cause is named only when its model explains the events to the noise level
     let named_fit = secondary.as_ref().map(|s| &s.fit).or(chosen.and_then(|c| c.fit.as_ref())).unwrap_or(&ctx.base);
-    // the fit's own uncertainty, for the level test's null (not for a combination of two
-    // causes, whose options are not kept)
+    // the fit's own uncertainty, for the level and quiet tests' nulls
     let named_opts = match (&secondary, chosen) {
-        (Some(_), _) => None,
+        (Some(s), _) => s.options.as_ref(),
         (None, Some(c)) => c.options.as_ref(),
         (None, None) => Some(&ctx.base_opts),
     };

@@ -32,6 +32,15 @@ impl NoiseModel {
         }
     }
 
+    /// [`NoiseModel::log_likelihood_at`] of several residual vectors at the same sample
+    /// `times` (each as long as `times`): for a model in time one filter pass serves them all.
+    pub fn log_likelihoods_at(&self, rs: &[&[f64]], times: &[f64]) -> Vec<f64> {
+        match &self.sampling {
+            None => rs.iter().map(|r| self.log_likelihood(r)).collect(),
+            Some(_) => sampling::log_likelihoods(self, rs, times),
+        }
+    }
+
     /// Noise at the sample `times` (s). For a model in time, every part in time
     /// (`sampling.rs`). Otherwise the white and AR(1) parts per sample, the drift part in
     /// time — drawn on a uniform grid at the model's median interval and interpolated — so

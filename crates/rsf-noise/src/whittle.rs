@@ -49,13 +49,29 @@ pub(super) fn amplitudes(
     has_ar: bool,
     penalty: f64,
 ) -> ([f64; 3], f64) {
+    let white = ([var, 0.0, 0.0], whittle(b, x, &[var, 0.0, 0.0]) + penalty);
+    match amplitudes_where(b, x, var, &|mask| has_ar || mask & 2 == 0, penalty) {
+        Some(best) if best.1 < white.1 => best,
+        _ => white,
+    }
+}
+
+/// [`amplitudes`] over the subsets of parts `allowed` admits (a bit mask: 1 white, 2 AR, 4
+/// drift); `None` when none of them has a solution.
+pub(super) fn amplitudes_where(
+    b: &[(f64, f64, f64)],
+    x: &[[f64; 3]],
+    var: f64,
+    allowed: &dyn Fn(u8) -> bool,
+    penalty: f64,
+) -> Option<([f64; 3], f64)> {
     let cost = |a: &[f64; 3]| {
         let k = 1 + 2 * usize::from(a[1] > 0.0) + 2 * usize::from(a[2] > 0.0);
         whittle(b, x, a) + penalty * k as f64
     };
-    let mut best = ([var, 0.0, 0.0], cost(&[var, 0.0, 0.0]));
+    let mut best: Option<([f64; 3], f64)> = None;
     for mask in 1u8..8 {
-        if mask & 2 != 0 && !has_ar {
+        if !allowed(mask) {
             continue;
         }
         let on: Vec<usize> = (0..3).filter(|k| mask & (1 << k) != 0).collect();
@@ -90,8 +106,8 @@ pub(super) fn amplitudes(
         }
         if ok {
             let v = cost(&a);
-            if v < best.1 {
-                best = (a, v);
+            if best.is_none_or(|(_, bv)| v < bv) {
+                best = Some((a, v));
             }
         }
     }

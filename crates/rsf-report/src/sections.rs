@@ -364,7 +364,7 @@ fn quiet(d: &Diagnosis) -> String {
     let words = format!(
         "Quiet stretches: inside {} stretches of steady sliding, after each segment's transient, every model \
          predicts a constant friction, so the residuals there wander only as the noise does. They wander {}× as \
-         much (in variance) as the noise model fitted to them ({}% of their variance in its slow drift) says \
+         much (in variance) as the noise model fitted to them ({}% of their variance in its drift) says \
          (p = {} for so little wander, were its claim no more than twice the truth; p = {} for so much). {}",
         q.stretches.len(),
         fmt_num(q.ratio, 3),
@@ -373,8 +373,9 @@ fn quiet(d: &Diagnosis) -> String {
         fmt_num(q.p_above, 2),
         if q.drift_is_misfit() {
             "The slow part of the residuals is therefore not noise: it is misfit locked to the protocol (segments \
-             at the wrong level, healing that is off after holds), which the drift part of the noise model \
-             absorbed. The model does not explain the record, whatever its events say."
+             at the wrong level, healing that is off after holds), which the noise model's slow part (its \
+             drift, or an AR(1) part of long correlation time) absorbed. The model does not explain the record, \
+             whatever its events say."
         } else if q.stretches_misfit() {
             "The model still misfits where its transients should be over: its approach to steady state is not \
              the record's, and the event test, whose quiet windows lie in these stretches, cannot see it. The \
