@@ -244,9 +244,9 @@ fn a_law_that_mimics_the_transients_but_not_their_tail_is_not_explained() {
 /// variably sampled (100 Hz after each change, every 2–5 s in holds) under AR(1) noise with no
 /// drift, steps down to 3·10⁻⁴ µm/s and holds to 10⁴ s. The one-state mixture fits it with
 /// w = 0.696, but each fit's noise model is estimated from pooled spectra and scored by the
-/// exact likelihood, which that estimate does not maximise: the truth's estimate landed 160
-/// log-units below its likelihood under the Nagata fit's noise model, and Nagata's law was
-/// named (ΔBIC −10,230 against the mixture's −10,069; held-out rms 1.95e-3 against 6.4e-4).
+/// exact likelihood, which that estimate does not maximise: the truth's estimate landed
+/// hundreds of log-units below its likelihood under the Nagata fit's noise model, and Nagata's
+/// law was named (ΔBIC −10,230 against the mixture's −10,069; held-out rms 1.95e-3 against 6.4e-4).
 /// Fails on the main before: `nagata`.
 #[test]
 fn a_law_is_not_chosen_by_the_luck_of_its_noise_estimate() {

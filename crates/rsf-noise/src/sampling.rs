@@ -222,8 +222,9 @@ fn tau_grid(dt_min: f64, span: f64) -> Vec<f64> {
 /// the two can disagree about whether the residuals need a drift at all: the residuals of a
 /// fit whose transients are slightly off near its breaks hold slow, localised wander that the
 /// exact likelihood values at hundreds of log units and the pooled spectra barely see (the
-/// `--outside` study's seed-39 record 20: the true law's residuals scored 398 below their
-/// likelihood under another fit's noise model, and a wrong law won by 161). So the best model
+/// `--outside` study's seed-39 record 20: the true law's residuals, fitted by `rsf fit`, scored
+/// 398 below their likelihood under another fit's noise model, and a wrong law won the
+/// comparison of laws by ΔBIC 161). So the best model
 /// with a drift and the best without are both estimated by Whittle, and the exact likelihood,
 /// with BIC's penalty for the drift's two parameters, chooses between them.
 pub(super) fn fit(r: &[f64], times: &[f64]) -> (NoiseModel, f64) {
