@@ -11,7 +11,7 @@
 //! sandwich H⁻¹ JᵀW²ΣW²J H⁻¹ (`rsf-fit`'s `fit/covariance.rs`).
 
 use super::noise::NoiseModel;
-use super::sampling::time_parts;
+use super::state_space::time_parts;
 
 impl NoiseModel {
     /// Σx for `x` at sample `times` (s, non-decreasing): the white part's variance at point i

@@ -11,15 +11,17 @@
 //! |---|---|
 //! | `noise.rs` | the model in sample index: spectrum fit, likelihood, synthesis |
 //! | `whittle.rs` | Whittle's likelihood of a three-part spectrum: periodogram, amplitudes, standard errors |
-//! | `sampling.rs` | the model in time of a variably sampled record (state-space likelihood, whitening) |
+//! | `sampling.rs` | the model in time of a variably sampled record: its estimate from pooled spectra |
+//! | `state_space.rs` | that model as a state-space process: exact likelihood, whitening, replicates |
 //! | `timed.rs` | the model at a record's sample times: which of the two forms applies |
 //! | `kernel.rs` | Σx, the model's covariance in time applied to a vector |
 
 mod kernel;
 mod noise;
 mod sampling;
+mod state_space;
 mod timed;
 mod whittle;
 
 pub use noise::{NoiseModel, NoiseStderr, VariableSampling};
-pub use sampling::whiten;
+pub use state_space::whiten;

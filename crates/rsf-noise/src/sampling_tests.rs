@@ -1,9 +1,11 @@
-//! Tests of the noise model in time (`sampling.rs`): each noise made by its own recursion at the
+//! Tests of the noise model in time (`sampling.rs`, `state_space.rs`): each noise made by its own recursion at the
 //! sample times, not by the synthesis under test.
 
 use super::*;
+use crate::state_space::whiten;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
 
 /// A lab's variable sampling: 100 Hz for 8 s after each of `events` changes, then 2 Hz for
 /// 300 s — 800 + 600 samples per event.

@@ -4,6 +4,7 @@
 
 use super::noise::{MAX_DRIFT_GRID, NoiseModel};
 use super::sampling;
+use super::state_space;
 
 /// The noise model at sample times: in sample index for a uniformly sampled record, in time
 /// for a variably sampled one (`sampling.rs`).
@@ -28,7 +29,7 @@ impl NoiseModel {
     pub fn log_likelihood_at(&self, r: &[f64], times: &[f64]) -> f64 {
         match &self.sampling {
             None => self.log_likelihood(r),
-            Some(_) => sampling::log_likelihood(self, r, times),
+            Some(_) => state_space::log_likelihood(self, r, times),
         }
     }
 
@@ -37,7 +38,7 @@ impl NoiseModel {
     pub fn log_likelihoods_at(&self, rs: &[&[f64]], times: &[f64]) -> Vec<f64> {
         match &self.sampling {
             None => rs.iter().map(|r| self.log_likelihood(r)).collect(),
-            Some(_) => sampling::log_likelihoods(self, rs, times),
+            Some(_) => state_space::log_likelihoods(self, rs, times),
         }
     }
 
@@ -48,7 +49,7 @@ impl NoiseModel {
     /// real drift is, in time, not in sample count.
     pub fn synthesize_at<R: rand::Rng + ?Sized>(&self, times: &[f64], rng: &mut R) -> Vec<f64> {
         if self.sampling.is_some() {
-            return sampling::synthesize(self, times, rng);
+            return state_space::synthesize(self, times, rng);
         }
         let n = times.len();
         let short = NoiseModel { drift_amplitude: 0.0, ..self.clone() };
