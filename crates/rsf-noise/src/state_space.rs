@@ -86,66 +86,120 @@ pub(super) fn kalman(m: &NoiseModel, r: &[f64], times: &[f64]) -> (f64, f64) {
     (ll[0], info)
 }
 
+/// The Kalman filter's covariance under a model's parts in time (white per sample, OU, the
+/// drift's relaxations): it does not depend on the data, so the likelihood and the whitening
+/// share it and carry their own state means.
+struct Filter {
+    parts: Vec<(f64, f64)>,
+    k: usize,
+    r_white: f64,
+    /// The state covariance.
+    p: [[f64; MAX_STATES]; MAX_STATES],
+    /// Each state's decay over the last interval.
+    f: [f64; MAX_STATES],
+    /// P·1: each state's covariance with the observation.
+    ph: [f64; MAX_STATES],
+}
+
+/// The filter's states at most: the OU part and the drift's components.
+const MAX_STATES: usize = MAX_DRIFT_COMPONENTS + 1;
+
+impl Filter {
+    fn new(m: &NoiseModel) -> Filter {
+        let parts = time_parts(m);
+        let k = parts.len().min(MAX_STATES);
+        let mut p = [[0.0; MAX_STATES]; MAX_STATES];
+        for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
+            p[i][i] = s2;
+        }
+        let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
+        Filter { parts, k, r_white, p, f: [0.0; MAX_STATES], ph: [0.0; MAX_STATES] }
+    }
+
+    /// The prediction over an interval of `d` s: the covariance, and the decays `f` the state
+    /// means are to be multiplied by ([`Filter::decay`]).
+    fn advance(&mut self, d: f64) {
+        let k = self.k;
+        for c in 0..k {
+            self.f[c] = (-d / self.parts[c].0).exp();
+        }
+        for a in 0..k {
+            for b in 0..k {
+                self.p[a][b] *= self.f[a] * self.f[b];
+            }
+            self.p[a][a] += self.parts[a].1 * (1.0 - self.f[a] * self.f[a]);
+        }
+    }
+
+    /// A state mean carried over the last interval.
+    fn decay(&self, x: &mut [f64; MAX_STATES]) {
+        for c in 0..self.k {
+            x[c] *= self.f[c];
+        }
+    }
+
+    /// The innovation's variance at a sample whose white part is `white_scale` times the
+    /// model's.
+    fn innovation_variance(&mut self, white_scale: f64) -> f64 {
+        let mut s = self.r_white * white_scale;
+        for a in 0..self.k {
+            self.ph[a] = self.p[a][..self.k].iter().sum();
+            s += self.ph[a];
+        }
+        s.max(1e-300)
+    }
+
+    /// A state mean's prediction of the observation.
+    fn predicted(&self, x: &[f64; MAX_STATES]) -> f64 {
+        x[..self.k].iter().sum()
+    }
+
+    /// A state mean updated by its innovation `v` (of variance `s`).
+    fn correct(&self, x: &mut [f64; MAX_STATES], v: f64, s: f64) {
+        for a in 0..self.k {
+            x[a] += self.ph[a] / s * v;
+        }
+    }
+
+    /// The covariance after the observation (of innovation variance `s`).
+    fn observed(&mut self, s: f64) {
+        for a in 0..self.k {
+            for b in 0..self.k {
+                self.p[a][b] -= self.ph[a] * self.ph[b] / s;
+            }
+        }
+    }
+}
+
 /// [`kalman`] on several residual vectors at the same `times` at once: the covariance and the
 /// gains are shared (they do not depend on the data), so each vector more costs its state mean
 /// only. Their log-likelihoods, and 1ᵀΣ⁻¹1.
 fn kalman_many(m: &NoiseModel, rs: &[&[f64]], times: &[f64]) -> (Vec<f64>, f64) {
-    const K: usize = MAX_DRIFT_COMPONENTS + 1;
-    let parts = time_parts(m);
-    let k = parts.len().min(K);
-    let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
+    let mut filter = Filter::new(m);
     let means: Vec<f64> = rs.iter().map(|r| r.iter().sum::<f64>() / r.len().max(1) as f64).collect();
-    // a state mean per vector and one for the constant; one covariance
-    let mut xs = vec![[0.0; K]; rs.len()];
-    let mut x1 = [0.0; K];
-    let mut p = [[0.0; K]; K];
-    for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
-        p[i][i] = s2;
-    }
+    // a state mean per vector and one for the constant
+    let mut xs = vec![[0.0; MAX_STATES]; rs.len()];
+    let mut x1 = [0.0; MAX_STATES];
     let mut lls = vec![0.0; rs.len()];
     let mut info = 0.0;
-    let mut f = [0.0; K];
-    let mut ph = [0.0; K];
     for (i, &t) in times.iter().enumerate() {
         if i > 0 {
-            let d = t - times[i - 1];
-            for c in 0..k {
-                f[c] = (-d / parts[c].0).exp();
-                x1[c] *= f[c];
-            }
+            filter.advance(t - times[i - 1]);
+            filter.decay(&mut x1);
             for x in xs.iter_mut() {
-                for c in 0..k {
-                    x[c] *= f[c];
-                }
-            }
-            for a in 0..k {
-                for b in 0..k {
-                    p[a][b] *= f[a] * f[b];
-                }
-                p[a][a] += parts[a].1 * (1.0 - f[a] * f[a]);
+                filter.decay(x);
             }
         }
-        let mut s = r_white;
-        for a in 0..k {
-            ph[a] = p[a][..k].iter().sum();
-            s += ph[a];
-        }
-        let s = s.max(1e-300);
+        let s = filter.innovation_variance(1.0);
         for ((x, r), (ll, mean)) in xs.iter_mut().zip(rs).zip(lls.iter_mut().zip(&means)) {
-            let v = r[i] - mean - x[..k].iter().sum::<f64>();
+            let v = r[i] - mean - filter.predicted(x);
             *ll -= 0.5 * (s.ln() + v * v / s);
-            for a in 0..k {
-                x[a] += ph[a] / s * v;
-            }
+            filter.correct(x, v, s);
         }
-        let v1 = 1.0 - x1[..k].iter().sum::<f64>();
+        let v1 = 1.0 - filter.predicted(&x1);
         info += v1 * v1 / s;
-        for a in 0..k {
-            x1[a] += ph[a] / s * v1;
-            for b in 0..k {
-                p[a][b] -= ph[a] * ph[b] / s;
-            }
-        }
+        filter.correct(&mut x1, v1, s);
+        filter.observed(s);
     }
     (lls, info)
 }
@@ -158,55 +212,23 @@ fn kalman_many(m: &NoiseModel, rs: &[&[f64]], times: &[f64]) -> (Vec<f64>, f64) 
 /// mean of c samples: 1/c). Unlike the likelihood, the mean is kept: a constant offset
 /// between two models' predictions is information.
 pub fn whiten(m: &NoiseModel, times: &[f64], white_scale: &[f64], xs: &mut [Vec<f64>]) {
-    const K: usize = MAX_DRIFT_COMPONENTS + 1;
-    let parts = time_parts(m);
-    let k = parts.len().min(K);
-    let r_white = m.white_variance.max(1e-9 * m.variance).max(1e-300);
-    let nv = xs.len();
-    let mut x = vec![[0.0; K]; nv];
-    let mut p = [[0.0; K]; K];
-    for (i, &(_, s2)) in parts.iter().take(k).enumerate() {
-        p[i][i] = s2;
-    }
-    let mut f = [0.0; K];
-    let mut ph = [0.0; K];
+    let mut filter = Filter::new(m);
+    let mut x = vec![[0.0; MAX_STATES]; xs.len()];
     for (i, &t) in times.iter().enumerate() {
         if i > 0 {
-            let d = (t - times[i - 1]).max(0.0);
-            for c in 0..k {
-                f[c] = (-d / parts[c].0).exp();
-            }
+            filter.advance((t - times[i - 1]).max(0.0));
             for xv in x.iter_mut() {
-                for c in 0..k {
-                    xv[c] *= f[c];
-                }
-            }
-            for a in 0..k {
-                for b in 0..k {
-                    p[a][b] *= f[a] * f[b];
-                }
-                p[a][a] += parts[a].1 * (1.0 - f[a] * f[a]);
+                filter.decay(xv);
             }
         }
-        let mut s = r_white * white_scale.get(i).copied().unwrap_or(1.0);
-        for a in 0..k {
-            ph[a] = p[a][..k].iter().sum();
-            s += ph[a];
-        }
-        let s = s.max(1e-300);
+        let s = filter.innovation_variance(white_scale.get(i).copied().unwrap_or(1.0));
         let sd = s.sqrt();
         for (xv, v) in x.iter_mut().zip(xs.iter_mut()) {
-            let innov = v[i] - xv[..k].iter().sum::<f64>();
+            let innov = v[i] - filter.predicted(xv);
             v[i] = innov / sd;
-            for a in 0..k {
-                xv[a] += ph[a] / s * innov;
-            }
+            filter.correct(xv, innov, s);
         }
-        for a in 0..k {
-            for b in 0..k {
-                p[a][b] -= ph[a] * ph[b] / s;
-            }
-        }
+        filter.observed(s);
     }
 }
 
