@@ -38,6 +38,23 @@ pub struct StateArgs<R> {
     pub normal_stress_rate: R,
 }
 
+impl<R: Real> StateArgs<R> {
+    /// The same point in plain values (the dual numbers' real parts): for a law computed in
+    /// `f64` whose derivatives come from its own [`jet`](StateLaw::jet) (a Python function, a law
+    /// wrapped around another's dynamic rate).
+    pub fn plain(&self) -> StateArgs<f64> {
+        StateArgs {
+            v: self.v.re(),
+            theta: self.theta.re(),
+            dc: self.dc.re(),
+            b: self.b.re(),
+            stress_rate: self.stress_rate.re(),
+            normal_stress: self.normal_stress.re(),
+            normal_stress_rate: self.normal_stress_rate.re(),
+        }
+    }
+}
+
 impl StateArgs<f64> {
     /// Arguments with zero stress rate at unit normal stress (steady or imposed-velocity
     /// sliding).

@@ -73,3 +73,44 @@ fn a_law_with_two_parameters_has_both_fitted() {
     assert!(!r2.stderr.contains_key("w1"));
     assert!((r2.params.law_params["n1"] - 1.6).abs() < 0.05, "n with w held: {}", r2.params.law_params["n1"]);
 }
+
+const POWER: &str = r#"
+name = "power-fit"
+words = "power-law aging"
+theta_rate = "1 - omega^n"
+
+[[parameter]]
+name = "n"
+range = [0.2, 5.0]
+start = 1.0
+"#;
+
+/// Any registered law has its reshaped form by name (`aging-reshaped`: the Aging law read at
+/// θ_ref (θ/θ_ref)^p, `rsf_laws::reshaped`), fitted like any law with its exponent `p1`: on a
+/// record made by power-law aging at n = 1.6 (a text law, another code path) it recovers
+/// p = n, since the reshaped Aging law is 1 − Ω^p.
+#[test]
+fn any_law_reshaped_is_fitted_like_a_law() {
+    rsf_laws::registry::register(rsf_laws::text_law::parse(POWER, "power.toml").unwrap()).unwrap();
+    let truth_law = rsf_laws::law_by_name("power-fit", |_| Some(1.6)).unwrap();
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::from_shared(truth_law, 0.014, 10.0));
+    let protocol = [
+        (1.0, 80.0, 0.1),
+        (10.0, 20.0, 0.05),
+        (1.0, 120.0, 0.1),
+        (0.0, 30.0, 0.2),
+        (1.0, 100.0, 0.1),
+        (0.0, 300.0, 1.0),
+        (1.0, 120.0, 0.1),
+    ];
+    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 0.0 }, 12).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let start = rsf_laws::registry::find("aging-reshaped").unwrap().with_starting_values().unwrap();
+    assert_eq!(start.parameters(), vec![("p", 1.0)]);
+    let opts = FitOptions::new(vec![start], 0.01);
+    let r = fit(&prepare(&rec, &segs, &opts).unwrap(), &opts).unwrap();
+    let (p, se) = (r.params.law_params["p1"], r.stderr["p1"]);
+    println!("p = {p} ± {se}, rms {}", r.rms);
+    assert!(se > 0.0 && (p - 1.6).abs() < 4.0 * se.max(1e-3), "p = {p} ± {se}, truth 1.6");
+    assert!(r.rms < 1.05 * 2e-4, "rms {}", r.rms);
+}

@@ -30,6 +30,7 @@ mod aging_slip;
 pub mod expr;
 mod no_healing;
 pub mod registry;
+pub mod reshaped;
 pub mod text_law;
 
 pub use aging_slip::AgingSlip;

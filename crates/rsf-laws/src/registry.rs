@@ -34,6 +34,7 @@
 //! ```
 
 use crate::Law;
+use crate::reshaped::RESHAPED_SUFFIX;
 use rsf_core::DynStateLaw;
 use std::path::PathBuf;
 use std::sync::{Arc, LazyLock, RwLock};
@@ -245,10 +246,21 @@ fn read() -> std::sync::RwLockReadGuard<'static, Vec<LawEntry>> {
 }
 
 /// Checks a law name: lower-case letters, digits and `-`, starting with a letter.
+/// A name ending in [`RESHAPED_SUFFIX`] is refused: it names a registered law reshaped, which
+/// the registry derives ([`find`]).
 pub fn check_name(name: &str) -> Result<(), String> {
     let ok = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
         && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-');
-    if ok { Ok(()) } else { Err(format!("law name `{name}`: use lower-case letters, digits and `-`, from a letter")) }
+    if !ok {
+        return Err(format!("law name `{name}`: use lower-case letters, digits and `-`, from a letter"));
+    }
+    if name.ends_with(RESHAPED_SUFFIX) {
+        return Err(format!(
+            "law name `{name}`: a name ending in `{RESHAPED_SUFFIX}` is a registered law reshaped in state, which \
+             rsf derives; choose another"
+        ));
+    }
+    Ok(())
 }
 
 /// Names a law's own parameter may not take: the model's parameters and a state table's fields
@@ -310,9 +322,14 @@ pub fn register(entry: LawEntry) -> Result<(), String> {
     }
 }
 
-/// The law registered under `name`; the error lists the names known.
+/// The law registered under `name`, or — for `name` a registered law's with
+/// [`RESHAPED_SUFFIX`] — that law reshaped in state ([`crate::reshaped`]); the error lists the
+/// names known.
 pub fn find(name: &str) -> Result<LawEntry, String> {
     let list = read();
+    if let Some(base) = name.strip_suffix(RESHAPED_SUFFIX).and_then(|b| list.iter().find(|e| e.name == b)) {
+        return crate::reshaped::entry(base);
+    }
     list.iter().find(|e| e.name == name).cloned().ok_or_else(|| {
         let names: Vec<&str> = list.iter().map(|e| e.name.as_str()).collect();
         format!(

@@ -86,15 +86,7 @@ impl StateLaw for PyLaw {
     /// central differences, so this is never asked for dual numbers (their derivative parts
     /// would be zero).
     fn theta_rate<R: Real>(&self, s: &StateArgs<R>) -> R {
-        R::from(self.call(&StateArgs {
-            v: s.v.re(),
-            theta: s.theta.re(),
-            dc: s.dc.re(),
-            b: s.b.re(),
-            stress_rate: s.stress_rate.re(),
-            normal_stress: s.normal_stress.re(),
-            normal_stress_rate: s.normal_stress_rate.re(),
-        }))
+        R::from(self.call(&s.plain()))
     }
 
     fn name(&self) -> String {
