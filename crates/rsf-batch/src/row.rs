@@ -108,6 +108,10 @@ pub struct Row {
     /// stretches of sliding over what its noise model says, in variance (about 1: the noise
     /// model's drift is noise; far below 1: its slow part is misfit, `diagnose/quiet.rs`).
     pub quiet_wander: Option<f64>,
+    /// The form test of the model named: ΔBIC of the best model reshaped in state (its own or a
+    /// rival's law read at θ_ref(θ/θ_ref)^p) against it; below −10 its law is not the
+    /// record's (`diagnose/form.rs`).
+    pub form_delta_bic: Option<f64>,
     /// The manifest's `meta_…` cells.
     pub meta: Vec<(String, String)>,
 }
@@ -140,6 +144,7 @@ impl Row {
             events: None,
             drift_rms: None,
             quiet_wander: None,
+            form_delta_bic: None,
             meta: vec![],
         }
     }
@@ -160,7 +165,7 @@ const HEAD: [(&str, CellKind); 11] = [
     ("rms", CellKind::Number),
 ];
 /// The fixed columns after the parameters, and their kinds.
-const TAIL: [(&str, CellKind); 12] = [
+const TAIL: [(&str, CellKind); 13] = [
     ("cause", CellKind::Text),
     ("delta_bic", CellKind::Number),
     ("rms_ratio", CellKind::Number),
@@ -173,6 +178,7 @@ const TAIL: [(&str, CellKind); 12] = [
     ("events", CellKind::Count),
     ("drift_rms", CellKind::Number),
     ("quiet_wander", CellKind::Number),
+    ("form_delta_bic", CellKind::Number),
 ];
 
 /// The order of parameter columns: mu0, a, then b_i and Dc_i state by state, then the laws'
@@ -319,6 +325,7 @@ pub fn summary_table(rows: &[Row]) -> SummaryTable {
             Cell::Count(r.events.map(|n| n as u64)),
             num(r.drift_rms),
             num(r.quiet_wander),
+            num(r.form_delta_bic),
         ]);
         for m in &metas {
             cells.push(text(r.meta.iter().find(|(k, _)| k == m).map_or("", |(_, v)| v.as_str())));
@@ -363,7 +370,7 @@ mod tests {
         let t = summary_csv(&[a, b, c]);
         let lines: Vec<&str> = t.lines().collect();
         assert!(lines[0].contains(",rms,a,a_se,dc1,dc1_se,b2,b2_se,k,k_se,cause,"), "{}", lines[0]);
-        assert!(lines[0].ends_with(",drift_rms,quiet_wander,meta_sample"));
+        assert!(lines[0].ends_with(",drift_rms,quiet_wander,form_delta_bic,meta_sample"));
         assert!(lines[1].contains(",0.01,0.0001,10,1,,,0.01,,"), "{}", lines[1]);
         assert!(lines[3].starts_with("\"c, d.csv\",read_failed,"), "{}", lines[3]);
         assert_eq!(lines.len(), 4);

@@ -414,6 +414,9 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
             String::new()
         }
     );
+    if let Some(f) = &d.adequacy.form {
+        out += &format!("form test: {}\n", f.words());
+    }
     if let Some(s) = &d.secondary {
         out += &format!(
             "second cause: {} on top of {}: ΔBIC {:.1}, rms ratio {:.4}, effect {}\n",

@@ -110,6 +110,7 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["levels_excess"] = json!(d.adequacy.levels.excess);
             r["quiet_p_below"] = json!(d.adequacy.quiet.p_below);
             r["quiet_p_above"] = json!(d.adequacy.quiet.p_above);
+            r["form"] = json!(d.adequacy.form);
             r["quiet_ratio"] = json!(d.adequacy.quiet.ratio);
             r["quiet_stretches"] = json!(d.adequacy.quiet.stretches.len());
             r["coherence"] = json!(d.adequacy.coherence.verdict.as_str());

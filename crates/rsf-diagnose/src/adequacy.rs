@@ -48,6 +48,7 @@
 //! its levels fit: the shape of its transients is not judged).
 
 use super::coherence::{Coherence, EventDirection, EventWindow, coherence};
+use super::form::FormTest;
 use super::levels::{LevelTest, level_test};
 use super::quiet::{QuietTest, quiet_test};
 #[cfg(doc)]
@@ -117,6 +118,13 @@ pub struct Adequacy {
     /// The quiet test (`quiet.rs`): is the wander the noise model counts as noise there inside
     /// the quiet stretches of sliding? Part of the verdict.
     pub quiet: QuietTest,
+    /// The form test (`form.rs`): does the law named fit better reshaped in state? Run on the
+    /// model of a named cause whose other tests found no misfit; part of the verdict.
+    pub form: Option<FormTest>,
+    /// Why the form test did not run on the model of a named cause, when it did not
+    /// (`form.rs`: a noisy load point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub form_untested: Option<&'static str>,
 }
 
 impl Adequacy {
@@ -130,13 +138,30 @@ impl Adequacy {
     }
 
     /// The verdict in words, for the diagnosis's reason: the event test's (the coherence
-    /// test's where the event test could not run), and the level test's when it ran.
+    /// test's where the event test could not run), the level test's when it ran, and the form
+    /// test's (first when it found misfit).
     pub fn words(&self) -> String {
         let base = self.event_and_level_words();
-        match self.quiet.words() {
+        let base = match self.quiet.words() {
             Some(q) => format!("{q}; {base}"),
             None => base,
+        };
+        match (&self.form, self.form_untested) {
+            (Some(f), _) if f.inadequate() => format!("{}; {base}", f.words()),
+            (Some(f), _) => format!("{base}; {}", f.words()),
+            (None, Some(why)) => format!("{base}; the form test was {why}"),
+            (None, None) => base,
         }
+    }
+
+    /// The same adequacy with the form test's outcome: inadequate when it finds misfit.
+    pub(super) fn with_form(mut self, form: Option<FormTest>, untested: Option<&'static str>) -> Self {
+        self.form_untested = untested;
+        if form.as_ref().is_some_and(FormTest::inadequate) {
+            self.verdict = AdequacyVerdict::Inadequate;
+        }
+        self.form = form;
+        self
     }
 
     /// The event and level tests' verdicts in words.
@@ -320,6 +345,8 @@ pub fn adequacy(
             levels,
             coherence,
             quiet: quiet_wander,
+            form: None,
+            form_untested: None,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -373,5 +400,7 @@ pub fn adequacy(
         levels,
         coherence,
         quiet: quiet_wander,
+        form: None,
+        form_untested: None,
     }
 }

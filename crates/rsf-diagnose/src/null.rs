@@ -190,30 +190,40 @@ impl Ctx<'_> {
             let fc = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
             Some(gain(&fb, &nb, &fc.f, &fc.nf))
         };
-        let seeds: Vec<u64> =
-            (0..self.opts.null_replicates as u64).map(|b| self.opts.seed.wrapping_mul(1_000_003) + b).collect();
-        // a sequential test (NULL_STAGES): a quarter of the replicates, then half, then all.
-        // The same seeds in the same order keep the result deterministic.
-        let (level, n) = (self.opts.false_alarm_level, seeds.len());
-        let mut gains = vec![];
-        for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
-            let upto = (n as f64 * share).ceil() as usize;
-            let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
-            if upto >= n || upto <= gains.len() {
-                continue;
-            }
-            gains.extend(par_map(&seeds[gains.len()..upto], self.opts.threads, one));
-            let decided = calibrate(observed, &gains, dk).filter(|c| {
-                let p = c.false_alarm_probability;
-                p < below * level || p > above * level
-            });
-            if decided.is_some() {
-                return decided;
-            }
-        }
-        gains.extend(par_map(&seeds[gains.len()..], self.opts.threads, one));
-        calibrate(observed, &gains, dk)
+        sequential(self.opts, observed, dk, one)
     }
+}
+
+/// The null distribution of an `observed` gain (`dk` parameters added) from replicates `one`
+/// (seeded; `None` where a replicate could not be refitted), by the sequential test
+/// ([`NULL_STAGES`]): a quarter of the replicates, then half, then all. The same seeds in the
+/// same order keep the result deterministic.
+pub(super) fn sequential(
+    opts: &super::DiagnoseOptions,
+    observed: f64,
+    dk: usize,
+    one: impl Fn(&u64) -> Option<f64> + Sync,
+) -> Option<NullCalibration> {
+    let seeds: Vec<u64> = (0..opts.null_replicates as u64).map(|b| opts.seed.wrapping_mul(1_000_003) + b).collect();
+    let (level, n) = (opts.false_alarm_level, seeds.len());
+    let mut gains = vec![];
+    for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
+        let upto = (n as f64 * share).ceil() as usize;
+        let upto = if i == 0 { upto.max(NULL_MIN_FIRST_STAGE) } else { upto };
+        if upto >= n || upto <= gains.len() {
+            continue;
+        }
+        gains.extend(par_map(&seeds[gains.len()..upto], opts.threads, &one));
+        let decided = calibrate(observed, &gains, dk).filter(|c| {
+            let p = c.false_alarm_probability;
+            p < below * level || p > above * level
+        });
+        if decided.is_some() {
+            return decided;
+        }
+    }
+    gains.extend(par_map(&seeds[gains.len()..], opts.threads, &one));
+    calibrate(observed, &gains, dk)
 }
 
 #[cfg(test)]

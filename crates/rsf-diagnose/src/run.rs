@@ -2,14 +2,16 @@
 //! null calibration, the decision.
 
 use super::adequacy::adequacy;
+use super::baseline::{baseline, continued};
 use super::candidate::{Ctx, FullFit, rescore};
 use super::cause::Cause;
 use super::combination::secondary;
 use super::decide::{ineligible, judge_adequacy, pair_words, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
-use super::heldout::{heldout, sigma_first_changes_after, split_time, training};
-use super::reconstruction::{SUSPECT_SEGMENT_RATIO, exclude_short, judge, worst_segment};
+use super::form::{FORM_UNTESTED_NOISY_LOAD_POINT, form_test};
+use super::heldout::{heldout, sigma_first_changes_after, split_time};
+use super::rule::AdequacyVerdict;
 use super::starts::slip_rate_range;
 use super::timing::{load_point_sigma, timing_mask};
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
@@ -17,7 +19,6 @@ use rsf_fit::data::{Record, isolated_spikes};
 use rsf_fit::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
 use rsf_fit::parallel::par_map;
 use rsf_fit::segment::Segment;
-use rsf_solvers::SolveError;
 
 /// Starting points of a candidate's fit from the baseline optimum: the optimum itself and one
 /// restart with Dc tripled (the scaled restarts of a cold fit, see `fit::fit`).
@@ -30,101 +31,6 @@ const CANDIDATE_BUDGET_SHARE: f64 = 1.0 / 3.0;
 /// At most this many decisive candidates are put to the null calibration (each costs
 /// `null_replicates` pairs of refits); the rest keep their place in the table.
 const MAX_CALIBRATED: usize = 3;
-
-/// The baseline under `o`, and — under protocol loading — the reconstruction check: a segment
-/// that misfits far above the others is refitted with record loading, and if the misfit goes
-/// away there the protocol is blamed and the diagnosis continues with record loading.
-fn baseline(
-    rec: &Record,
-    segs: &[Segment],
-    o: &FitOptions,
-    threads: usize,
-) -> Result<(FitOptions, Prepared, FitResult, Option<super::Reconstruction>), FitError> {
-    let p = prepare(rec, segs, o)?;
-    // nothing else runs yet: the starts side by side (the returned options keep one thread,
-    // for the fits that run as parallel jobs later)
-    let fit = |p: &Prepared, o: &FitOptions| fit(p, &FitOptions { threads, ..o.clone() });
-    let base = continued(rec, segs, &p, o, &fit)?;
-    if o.loading == LoadingMode::Protocol {
-        if let Some((i, ratio)) = worst_segment(&base).filter(|w| w.1 > SUSPECT_SEGMENT_RATIO) {
-            let or = FitOptions { loading: LoadingMode::Record, ..o.clone() };
-            let pr = prepare(rec, segs, &or)?;
-            // the check: one start, warm from the protocol optimum; when the protocol is to
-            // blame, the record-loading baseline is then fitted in full
-            let check = FitOptions { initial: base.params.as_initial(), starts: 1, ..or.clone() };
-            if let Ok(fr) = fit(&pr, &check) {
-                if let Some(r) = judge(&base, &fr, i, ratio) {
-                    let full = fit(&pr, &or)?;
-                    return Ok((or, pr, full, Some(r)));
-                }
-            }
-            // record loading could not clear it: a short suspect segment is left out
-            if let Some(r) = exclude_short(&base) {
-                let mut oe = o.clone();
-                oe.exclude.extend(r.excluded.iter().copied());
-                let pe = prepare(rec, segs, &oe)?;
-                let be = fit(&pe, &oe)?;
-                return Ok((oe, pe, be, Some(r)));
-            }
-        }
-    }
-    Ok((o.clone(), p, base, None))
-}
-
-/// Steps of the continuation in the size of a record's changes of σ ([`continued`]): the
-/// record's σ history scaled about its first value by these fractions in turn, each fit
-/// starting from the one before. A quarter of a 20 % drop is the 5 % drop that a start fitted
-/// to the record before it follows; each step after it a further quarter.
-const SIGMA_CONTINUATION: [f64; 3] = [0.25, 0.5, 0.75];
-
-/// The cold fit of `p` (`rec` with its segments `segs`), continued when every start blows up
-/// at some time t: a start far from the optimum can be driven to run away by a large change
-/// late in the record (a drop of σ forces fast slip, which a poor start cannot follow). The
-/// record before the segment where it blew up is fitted first, and its optimum starts the fit
-/// of the whole record. When that runs away too and the record's σ varies, the changes of σ
-/// are grown to their measured size in steps ([`SIGMA_CONTINUATION`]), each fit starting from
-/// the optimum of the one before: the parameters follow the data as the forced slip grows. The
-/// first error is returned when that does not work either.
-fn continued(
-    rec: &Record,
-    segs: &[Segment],
-    p: &Prepared,
-    o: &FitOptions,
-    fit: &dyn Fn(&Prepared, &FitOptions) -> Result<FitResult, FitError>,
-) -> Result<FitResult, FitError> {
-    let first = fit(p, o);
-    let Err(FitError::Start(SolveError::BlowUp { t, .. })) = &first else { return first };
-    // the solver's time: the record's own under record loading, from the prepared record's
-    // start under protocol loading (`fit::forward`); the segment where it blew up
-    let t_abs = match o.loading {
-        LoadingMode::Record => *t,
-        LoadingMode::Protocol => p.record.time.first().copied().unwrap_or(0.0) + t,
-    };
-    let cut = segs.iter().map(|s| s.t0).filter(|&t0| t0 <= t_abs && t0 > rec.time[0]).fold(f64::NAN, f64::max);
-    if !cut.is_finite() {
-        return first;
-    }
-    let (train, tsegs) = training(rec, segs, cut);
-    let Ok(ft) = prepare(&train, &tsegs, o).and_then(|pt| fit(&pt, o)) else { return first };
-    let from = |f: &FitResult| FitOptions { initial: f.params.as_initial(), ..o.clone() };
-    let whole = fit(p, &from(&ft));
-    if whole.is_ok() || rec.normal_stress.is_empty() {
-        return whole.or(first);
-    }
-    let mut at = ft;
-    for lambda in SIGMA_CONTINUATION {
-        let mut scaled = rec.clone();
-        let s0 = rec.normal_stress[0];
-        for s in &mut scaled.normal_stress {
-            *s = s0 + lambda * (*s - s0);
-        }
-        match prepare(&scaled, segs, o).and_then(|ps| fit(&ps, &from(&at))) {
-            Ok(f) => at = f,
-            Err(_) => return first,
-        }
-    }
-    fit(p, &from(&at)).or(first)
-}
 
 enum Job {
     /// A candidate's fit on the whole record (and its held-out test when that waits for it).
@@ -409,11 +315,33 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     // the noise model of the named fit's own residuals: the quiet test's, and the drift the
     // reason reports (the baseline's was fitted once already)
-    let named_noise = match (&secondary, chosen.and_then(|c| c.fit.as_ref())) {
-        (None, None) => ctx.base_noise.model.clone(),
-        _ => noisy(named_fit).model,
+    let named_noisy = match (&secondary, chosen.and_then(|c| c.fit.as_ref())) {
+        (None, None) => None,
+        _ => Some(noisy(named_fit)),
     };
+    let named_noise = named_noisy.as_ref().map_or_else(|| ctx.base_noise.model.clone(), |n| n.model.clone());
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect), Some(&named_noise));
+    // the form test of a cause's model the other tests found no misfit in (`form.rs`)
+    // and of the best other credible decisive candidate: a rival whose law, reshaped, nests the
+    // record's where the named one's does not
+    // (not where the load point's noise makes the breaks' times uncertain: `form.rs`)
+    let noisy_load_point = ctx.lp_noise.is_some() && ctx.base_opts.loading == LoadingMode::Protocol;
+    let testable = named_noisy.is_some() && chosen.is_some() && adequacy.verdict != AdequacyVerdict::Inadequate;
+    let form = match (&named_noisy, named_opts, chosen) {
+        (Some(_), Some(o), Some(c1)) if testable && !noisy_load_point => {
+            let named_causes = [Some(c1.cause), secondary.as_ref().map(|s| s.cause)];
+            let rival = decisive
+                .iter()
+                .filter(|c| !named_causes.contains(&Some(c.cause)) && ineligible(c, level).is_none())
+                .find_map(|c| Some((c.cause, c.options.as_ref()?, c.fit.as_ref()?)));
+            let named_cause = secondary.as_ref().map_or(c1.cause, |s| s.cause);
+            form_test(&ctx, (named_cause, o, named_fit), &Vec::from_iter(rival))
+        }
+        _ => None,
+    };
+    let untested = (testable && noisy_load_point).then_some(FORM_UNTESTED_NOISY_LOAD_POINT);
+    let adequacy = adequacy.with_form(form, untested);
+    lap("adequacy and form test");
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     // two causes the record cannot tell apart: another credible, decisive candidate within
     // UNDECIDED_DBIC of the one chosen. Nearer than that, the record prefers neither, so the

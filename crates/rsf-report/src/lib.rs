@@ -18,6 +18,7 @@
 //! | `design.rs` | `rsf design`'s figure and page: [`design_svg`], [`design_html`] |
 //! | `charts.rs` | the SVG charts: [`fit_svg`] (`rsf fit --plot`), [`models_svg`], [`residuals_svg`], [`events_svg`] |
 
+mod adequacy;
 mod charts;
 mod design;
 mod sections;
@@ -88,7 +89,7 @@ pub fn diagnosis_html(d: &Diagnosis, name: &str) -> String {
         sections::parameters(d),
         sections::models(d),
         sections::residuals(d),
-        sections::adequacy(d),
+        adequacy::adequacy(d),
         sections::noise(d),
         sections::events(d),
         sections::candidates(d),

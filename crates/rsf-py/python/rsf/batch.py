@@ -112,5 +112,7 @@ def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffn
     ``rms_ratio``, ``effect``, ``runner_up``, ``partial``, ``adequacy``, ``adequacy_excess``,
     ``events_tested`` (of ``events``, the record's steps and reslides), ``drift_rms`` and
     ``quiet_wander`` (the named model's residuals' wander in the quiet stretches of sliding over
-    what their noise model says, in variance: far below 1 when its drift is misfit)."""
+    what their noise model says, in variance: far below 1 when its drift is misfit) and
+    ``form_delta_bic`` (the form test: ΔBIC of the best model reshaped in state against the one
+    named; below −10 its law is not the record's)."""
     return _many(manifest_or_paths, stiffness, client, fit, True, progress, options, allow_outside)
