@@ -25,6 +25,32 @@ range = [0.0, 1.0]
 start = 0.5
 "#;
 
+/// Steps up and down, then holds of 30 and 300 s (V_lp µm/s, duration s, sampling interval s):
+/// holds see a law's healing, steps its slip dependence.
+const PROTOCOL: [(f64, f64, f64); 9] = [
+    (1.0, 80.0, 0.1),
+    (10.0, 20.0, 0.05),
+    (1.0, 120.0, 0.1),
+    (0.1, 400.0, 0.5),
+    (1.0, 120.0, 0.1),
+    (0.0, 30.0, 0.2),
+    (1.0, 100.0, 0.1),
+    (0.0, 300.0, 1.0),
+    (1.0, 120.0, 0.1),
+];
+
+/// A record of [`PROTOCOL`] made by one state of `law` (a = 0.010, b = 0.014, Dc = 10 µm,
+/// k = 0.01 /µm) with white noise 2e-4 of stream `seed`, and its segments.
+fn made_with(
+    law: std::sync::Arc<dyn rsf_core::DynStateLaw>,
+    seed: u64,
+) -> (rsf_fit::data::Record, Vec<rsf_fit::segment::Segment>) {
+    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::from_shared(law, 0.014, 10.0));
+    let rec = record(&truth, 1.0, &PROTOCOL, Noise { sigma: 2e-4, tau: 0.0 }, seed).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    (rec, segs)
+}
+
 #[test]
 fn a_law_with_two_parameters_has_both_fitted() {
     let entry = rsf_laws::text_law::parse(BLEND, "blend.toml").unwrap();
@@ -35,21 +61,7 @@ fn a_law_with_two_parameters_has_both_fitted() {
         _ => None,
     })
     .unwrap();
-    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::from_shared(truth_law, 0.014, 10.0));
-    // steps up and down, then holds of 30 and 300 s: holds see n, steps see w
-    let protocol = [
-        (1.0, 80.0, 0.1),
-        (10.0, 20.0, 0.05),
-        (1.0, 120.0, 0.1),
-        (0.1, 400.0, 0.5),
-        (1.0, 120.0, 0.1),
-        (0.0, 30.0, 0.2),
-        (1.0, 100.0, 0.1),
-        (0.0, 300.0, 1.0),
-        (1.0, 120.0, 0.1),
-    ];
-    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 0.0 }, 11).unwrap();
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let (rec, segs) = made_with(truth_law, 11);
     let start = rsf_laws::registry::find("blend-fit").unwrap().with_starting_values().unwrap();
     assert_eq!(start.parameters(), vec![("n", 1.0), ("w", 0.5)]);
     let opts = FitOptions::new(vec![start], 0.01);
@@ -93,18 +105,7 @@ start = 1.0
 fn any_law_reshaped_is_fitted_like_a_law() {
     rsf_laws::registry::register(rsf_laws::text_law::parse(POWER, "power.toml").unwrap()).unwrap();
     let truth_law = rsf_laws::law_by_name("power-fit", |_| Some(1.6)).unwrap();
-    let truth = Model::new(0.6, 1.0, 0.010, 0.01).with_state(StateVariable::from_shared(truth_law, 0.014, 10.0));
-    let protocol = [
-        (1.0, 80.0, 0.1),
-        (10.0, 20.0, 0.05),
-        (1.0, 120.0, 0.1),
-        (0.0, 30.0, 0.2),
-        (1.0, 100.0, 0.1),
-        (0.0, 300.0, 1.0),
-        (1.0, 120.0, 0.1),
-    ];
-    let rec = record(&truth, 1.0, &protocol, Noise { sigma: 2e-4, tau: 0.0 }, 12).unwrap();
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let (rec, segs) = made_with(truth_law, 12);
     let start = rsf_laws::registry::find("aging-reshaped").unwrap().with_starting_values().unwrap();
     assert_eq!(start.parameters(), vec![("p", 1.0)]);
     let opts = FitOptions::new(vec![start], 0.01);
