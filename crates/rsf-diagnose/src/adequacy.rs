@@ -121,10 +121,6 @@ pub struct Adequacy {
     /// The form test (`form.rs`): does the law named fit better reshaped in state? Run on the
     /// model of a named cause whose other tests found no misfit; part of the verdict.
     pub form: Option<FormTest>,
-    /// Why the form test did not run on the model of a named cause, when it did not
-    /// (`form.rs`: a noisy load point).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub form_untested: Option<&'static str>,
 }
 
 impl Adequacy {
@@ -146,17 +142,15 @@ impl Adequacy {
             Some(q) => format!("{q}; {base}"),
             None => base,
         };
-        match (&self.form, self.form_untested) {
-            (Some(f), _) if f.inadequate() => format!("{}; {base}", f.words()),
-            (Some(f), _) => format!("{base}; {}", f.words()),
-            (None, Some(why)) => format!("{base}; the form test was {why}"),
-            (None, None) => base,
+        match &self.form {
+            Some(f) if f.inadequate() => format!("{}; {base}", f.words()),
+            Some(f) => format!("{base}; {}", f.words()),
+            None => base,
         }
     }
 
     /// The same adequacy with the form test's outcome: inadequate when it finds misfit.
-    pub(super) fn with_form(mut self, form: Option<FormTest>, untested: Option<&'static str>) -> Self {
-        self.form_untested = untested;
+    pub(super) fn with_form(mut self, form: Option<FormTest>) -> Self {
         if form.as_ref().is_some_and(FormTest::inadequate) {
             self.verdict = AdequacyVerdict::Inadequate;
         }
@@ -346,7 +340,6 @@ pub fn adequacy(
             coherence,
             quiet: quiet_wander,
             form: None,
-            form_untested: None,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -401,6 +394,5 @@ pub fn adequacy(
         coherence,
         quiet: quiet_wander,
         form: None,
-        form_untested: None,
     }
 }

@@ -9,7 +9,7 @@ use super::combination::secondary;
 use super::decide::{ineligible, judge_adequacy, pair_words, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
-use super::form::{FORM_UNTESTED_NOISY_LOAD_POINT, form_test};
+use super::form::form_test;
 use super::heldout::{heldout, sigma_first_changes_after, split_time};
 use super::rule::AdequacyVerdict;
 use super::starts::slip_rate_range;
@@ -324,11 +324,9 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // the form test of a cause's model the other tests found no misfit in (`form.rs`)
     // and of the best other credible decisive candidate: a rival whose law, reshaped, nests the
     // record's where the named one's does not
-    // (not where the load point's noise makes the breaks' times uncertain: `form.rs`)
-    let noisy_load_point = ctx.lp_noise.is_some() && ctx.base_opts.loading == LoadingMode::Protocol;
     let testable = named_noisy.is_some() && chosen.is_some() && adequacy.verdict != AdequacyVerdict::Inadequate;
     let form = match (&named_noisy, named_opts, chosen) {
-        (Some(_), Some(o), Some(c1)) if testable && !noisy_load_point => {
+        (Some(_), Some(o), Some(c1)) if testable => {
             let named_causes = [Some(c1.cause), secondary.as_ref().map(|s| s.cause)];
             let rival = decisive
                 .iter()
@@ -339,8 +337,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         }
         _ => None,
     };
-    let untested = (testable && noisy_load_point).then_some(FORM_UNTESTED_NOISY_LOAD_POINT);
-    let adequacy = adequacy.with_form(form, untested);
+    let adequacy = adequacy.with_form(form);
     lap("adequacy and form test");
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
     // two causes the record cannot tell apart: another credible, decisive candidate within

@@ -169,10 +169,7 @@ fn levels(d: &Diagnosis) -> String {
 /// The form test: the law named, and the runner-up's, read at a reshaped state.
 fn form(d: &Diagnosis) -> String {
     let Some(f) = &d.adequacy.form else {
-        return match d.adequacy.form_untested {
-            Some(why) => format!("<p class=\"note\">{}</p>", esc(&format!("Form: the form test was {why}."))),
-            None => String::new(),
-        };
+        return String::new();
     };
     let whose = if f.named {
         format!("the law of the model named ({})", f.laws.join(" and "))

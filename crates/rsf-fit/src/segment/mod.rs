@@ -8,7 +8,9 @@
 //! (Chan et al.), so a merge costs O(1). Then neighbours whose velocities differ by less than a
 //! ratio are fused (correlated noise and servo wobble must not create steps), velocities are
 //! classified (hold: slope not different from zero), and each boundary is refined to the
-//! sample that minimises the two-line misfit. Working on samples with time as the abscissa
+//! sample that minimises the two-line misfit; on a noisy load point it then moves to where the
+//! two segments' lines cross (`refine::crossing_breaks`), which is far more precise than any
+//! split of noisy samples. Working on samples with time as the abscissa
 //! makes the method indifferent to changes of sampling rate.
 
 mod consolidate;
@@ -255,6 +257,8 @@ pub fn detect(time: &[f64], lp: &[f64], opts: &SegmentOptions) -> Vec<Segment> {
         }
         refine::exact_breaks(time, lp, &mut bounds, margin, &is_hold);
     }
+    // on a noisy load point the lines' crossing places a break better than the best split
+    refine::crossing_breaks(time, lp, &mut bounds, (s2_hold, floor2), opts.min_samples, &is_hold);
     // final fits and kinds
     let mut out: Vec<Segment> = Vec::new();
     let mut last_moving: Option<f64> = None;

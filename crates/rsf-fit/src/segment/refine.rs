@@ -1,5 +1,5 @@
 //! Exact break refinement: each boundary moves to the sample where the record leaves one
-//! segment's line for the next one's.
+//! segment's line for the next one's, and on a noisy load point to where the two lines cross.
 //!
 //! Each neighbour's line is fitted on its *body* (the segment without a margin next to the
 //! boundary, where the first segmentation may be a few samples off); a hold's line is flat. The
@@ -124,3 +124,65 @@ pub(super) fn exact_breaks(
         }
     }
 }
+
+/// Moves every inner boundary of `bounds` to the sample interval where its neighbours' lines,
+/// each fitted on its whole segment, cross. On a noisy load point the split of `exact_breaks`
+/// is only good to the samples within σ_x/|Δv| of the break — one to a few samples, each of which
+/// misplaces the friction's transient by k·|Δv|·dt — while two lines fitted on hundreds of
+/// samples cross within a small fraction of that. The crossing is taken only within
+/// [`CROSSING_SIGMAS`] × σ_x/|Δv| of the split (beyond, the lines do not describe the break: a
+/// servo settling, a segment too short); a segment keeps `min_samples`. `s2` is the load-point
+/// noise variance, `floor2` its round-off: a crossing outside the split's interval by no more
+/// than round-off leaves the boundary where it is (a clean record sampled at the switch). Three
+/// passes, each line refitted on the samples the last pass gave it.
+pub(super) fn crossing_breaks(
+    time: &[f64],
+    lp: &[f64],
+    bounds: &mut [usize],
+    (s2, floor2): (f64, f64),
+    min_samples: usize,
+    is_hold: &dyn Fn(&Moments) -> bool,
+) {
+    let line = |a: usize, b: usize| {
+        let m = Moments::of(&time[a..b], &lp[a..b]);
+        Line::of(&m, is_hold(&m))
+    };
+    let (sx, round_off) = (s2.max(floor2).sqrt(), ROUND_OFF_FACTOR * floor2.sqrt());
+    for _ in 0..3 {
+        let mut moved = false;
+        for b in 1..bounds.len().saturating_sub(1) {
+            let (s0, s, s1) = (bounds[b - 1], bounds[b], bounds[b + 1]);
+            let (la, lb) = (line(s0, s), line(s, s1));
+            let dv = (la.v - lb.v).abs();
+            if !(dv > 0.0) {
+                continue;
+            }
+            let tb = time[s] + (lb.at(time[s]) - la.at(time[s])) / (la.v - lb.v);
+            let (lo, hi) = (time[s - 1] - round_off / dv, time[s] + round_off / dv);
+            if !tb.is_finite() || (lo..=hi).contains(&tb) {
+                continue;
+            }
+            // the split is good to σ_x/|Δv|, and to a sample where that is shorter than one
+            let reach = CROSSING_SIGMAS * sx / dv + (time[s] - time[s - 1]);
+            if tb < time[s - 1] - reach || tb > time[s] + reach {
+                continue;
+            }
+            // the first sample at or after the crossing opens the later segment
+            let j = time.partition_point(|&t| t < tb);
+            if j >= s0 + min_samples.max(1) && j + min_samples.max(1) <= s1 && j != s {
+                bounds[b] = j;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+}
+
+/// A crossing this many load-point noise σ / |Δv| from the split is still the break's.
+pub const CROSSING_SIGMAS: f64 = 3.0;
+
+/// Crossings outside the split's interval by less than this many round-off units of the load
+/// point (over |Δv|) are round-off: the boundary stays.
+const ROUND_OFF_FACTOR: f64 = 1e3;
