@@ -130,7 +130,8 @@ pub(super) fn exact_breaks(
 /// is only good to the samples within σ_x/|Δv| of the break — one to a few samples, each of which
 /// misplaces the friction's transient by k·|Δv|·dt — while two lines fitted on hundreds of
 /// samples cross within a small fraction of that. The crossing is taken only within
-/// [`CROSSING_SIGMAS`] × σ_x/|Δv| of the split (beyond, the lines do not describe the break: a
+/// [`CROSSING_SIGMAS`] × σ_x/|Δv| plus one sample interval of the split (the split is good to
+/// σ_x/|Δv|, or to a sample where that is shorter; beyond, the lines do not describe the break: a
 /// servo settling, a segment too short); a segment keeps `min_samples`. `s2` is the load-point
 /// noise variance, `floor2` its round-off: a crossing outside the split's interval by no more
 /// than round-off leaves the boundary where it is (a clean record sampled at the switch). Three
@@ -180,8 +181,9 @@ pub(super) fn crossing_breaks(
     }
 }
 
-/// A crossing this many load-point noise σ / |Δv| from the split is still the break's.
-pub const CROSSING_SIGMAS: f64 = 3.0;
+/// A crossing this many load-point noise σ / |Δv| (plus a sample) from the split is still the
+/// break's: the split's own uncertainty, three standard deviations wide.
+const CROSSING_SIGMAS: f64 = 3.0;
 
 /// Crossings outside the split's interval by less than this many round-off units of the load
 /// point (over |Δv|) are round-off: the boundary stays.
