@@ -108,9 +108,10 @@ cat <<'EOF'
 
 Fits `mu0, a, b_i, Dc_i` (and each law's own parameter: `vc` for Kato–Tullis, `c` for Nagata;
 `k` with `--fit-stiffness`, a slip trend `g` in friction per µm of slip with
-`--fit-slip-trend`) by Levenberg–Marquardt with exact forward sensitivities, then optionally
+`--fit-slip-trend`, a rate-dependent direct effect `a_slope` — ∂f/∂ln V = a + a_slope·ln(V/V0)
+— with `--fit-a-slope`) by Levenberg–Marquardt with exact forward sensitivities, then optionally
 samples the posterior by MCMC. Parameter names for `--fix` and `--initial`: `mu0`, `a`, `k`,
-`g`, `b1`, `dc1`, `vc1`, `c1`, `b2`, `dc2`, …, and `mu0_seg2`, … with `--mu0-per-segment`;
+`g`, `a_slope`, `b1`, `dc1`, `vc1`, `c1`, `b2`, `dc2`, …, and `mu0_seg2`, … with `--mu0-per-segment`;
 `b`, `dc`, `vc` and `c` without a number mean state 1.
 `--fix a-b=-0.003` (or `X+Y=c`) is a linear constraint that removes the second name from the
 free set. `--stiffness` is required: the nominal k, or the starting value with

@@ -413,6 +413,10 @@ pub(crate) struct FitArgs {
     /// Fit a slip trend g (a friction term g·slip: gouge growth, wear, slip hardening) too.
     #[arg(long)]
     pub(crate) fit_slip_trend: bool,
+    /// Fit a rate-dependent direct effect too: ∂f/∂ln V = a + a_slope·ln(V/V0) (the parameter
+    /// `a_slope`, a₁; a steady state bent in ln V, up- and down-steps that jump unlike).
+    #[arg(long)]
+    pub(crate) fit_a_slope: bool,
     /// Fit the Linker–Dieterich normal-stress coupling α: `shared` (one α for all states, the
     /// default when the flag is given without a value) or `per-state`.
     #[arg(long, num_args = 0..=1, default_missing_value = "shared", value_parser = word::<AlphaFit>)]

@@ -52,6 +52,7 @@ pub fn options(a: &FitArgs) -> Result<FitOptions> {
     let mut o = FitOptions::new(laws, a.stiffness);
     o.fit_stiffness = a.fit_stiffness;
     o.fit_slip_trend = a.fit_slip_trend;
+    o.fit_a_slope = a.fit_a_slope;
     o.alpha = a.fit_alpha.unwrap_or(rsf_fit::fit::AlphaFit::Fixed);
     o.normal_stress = a.read.normal_stress_mode;
     o.fix = a.fix.clone();
@@ -206,6 +207,9 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
     row("k", p.k);
     if p.g != 0.0 || r.stderr.contains_key("g") {
         row("g", p.g);
+    }
+    if p.a_slope != 0.0 || r.stderr.contains_key("a_slope") {
+        row("a_slope", p.a_slope);
     }
     for (i, al) in p.alpha.iter().enumerate() {
         row(&format!("alpha{}", i + 1), *al);

@@ -33,6 +33,9 @@ pub(crate) struct FrictionEval {
     /// ∂(f_x)/∂L and ∂(f_psi)/∂L, with ∂L/∂x = 1 and ∂L/∂Ψ = 1/a (zero for the classic form).
     pub d_fx_dl: f64,
     pub d_fpsi_dl: f64,
+    /// ∂(f_x)/∂x outside L: the rate dependence a₁ of the direct effect (`Model::a_slope`;
+    /// 0 from the forms themselves).
+    pub bend_fx_dx: f64,
 }
 
 /// Above this l, asinh(e^l) = l + ln 2 and its slope is 1 to the last bit (e^(−2l) < 4e-18 is
@@ -76,13 +79,13 @@ impl FrictionForm {
     #[inline]
     pub(crate) fn eval(self, mu0: f64, a: f64, v0: f64, x: f64, psi: f64) -> FrictionEval {
         match self {
-            Self::Classic => FrictionEval { f_x: a, f_psi: 1.0, d_fx_dl: 0.0, d_fpsi_dl: 0.0 },
+            Self::Classic => FrictionEval { f_x: a, f_psi: 1.0, d_fx_dl: 0.0, d_fpsi_dl: 0.0, bend_fx_dx: 0.0 },
             Self::Regularized => {
                 let l = x - (2.0 * v0).ln() + (mu0 + psi) / a;
                 let c = asinh_exp_and_slope(l).1;
                 // dc/dL = c (1 − c²)
                 let dc = c * (1.0 - c * c);
-                FrictionEval { f_x: a * c, f_psi: c, d_fx_dl: a * dc, d_fpsi_dl: dc }
+                FrictionEval { f_x: a * c, f_psi: c, d_fx_dl: a * dc, d_fpsi_dl: dc, bend_fx_dx: 0.0 }
             }
         }
     }

@@ -73,8 +73,14 @@ pub struct Model {
     pub mu0: f64,
     /// Reference slip rate V0, µm/s.
     pub v0: f64,
-    /// Direct-effect coefficient a.
+    /// Direct-effect coefficient a (dimensionless): ∂f/∂ln V at V0.
     pub a: f64,
+    /// Rate dependence of the direct effect a₁ (dimensionless, 0 by default): the direct
+    /// effect's local slope ∂f/∂ln V is `a + a₁ ln(V/V0)`, so friction gains
+    /// `(a₁/2) ln²(V/V0)` and steady state bends in ln V. Classic form without radiation
+    /// damping only ([`validate`](Self::validate)); the slip rate of a friction is then the
+    /// root of a quadratic in ln V on the branch where the local slope is positive.
+    pub a_slope: f64,
     /// Machine stiffness k divided by normal stress, 1/µm. `INFINITY` imposes V = V_lp.
     pub stiffness: f64,
     /// Radiation damping η, friction per µm/s (0: quasi-static).
@@ -99,6 +105,7 @@ impl Model {
             mu0,
             v0,
             a,
+            a_slope: 0.0,
             stiffness,
             eta: 0.0,
             form: FrictionForm::Classic,
@@ -131,6 +138,11 @@ impl Model {
         self.slip_trend = g;
         self
     }
+    /// Sets the rate dependence of the direct effect a₁ (see [`a_slope`](Self::a_slope)).
+    pub fn with_a_slope(mut self, a_slope: f64) -> Self {
+        self.a_slope = a_slope;
+        self
+    }
     /// Sets the friction form.
     pub fn with_form(mut self, form: FrictionForm) -> Self {
         self.form = form;
@@ -158,6 +170,12 @@ impl Model {
         }
         if !(self.a > 0.0 && self.a.is_finite()) {
             return p("a", self.a, "must be positive and finite");
+        }
+        if !self.a_slope.is_finite() {
+            return p("a_slope", self.a_slope, "must be finite");
+        }
+        if self.a_slope != 0.0 && (self.form != FrictionForm::Classic || self.eta != 0.0) {
+            return p("a_slope", self.a_slope, "needs the classic friction form without radiation damping");
         }
         if !(self.stiffness > 0.0) {
             return p("stiffness", self.stiffness, "must be positive (inf imposes V = V_lp)");
@@ -203,7 +221,15 @@ impl Model {
     /// Friction (without radiation damping) at slip rate `v` (µm/s) and states `theta` (s).
     pub fn friction(&self, v: f64, theta: &[f64]) -> f64 {
         let z: Vec<f64> = theta.iter().map(|t| t.ln()).collect();
-        self.form.friction(self.mu0, self.a, self.v0, v.ln(), self.psi_from_ln_theta(&z))
+        let x = (v / self.v0).ln();
+        self.form.friction(self.mu0, self.a, self.v0, v.ln(), self.psi_from_ln_theta(&z)) + 0.5 * self.a_slope * x * x
+    }
+
+    /// The local slope of the direct effect, ∂f/∂ln V = a + a₁ ln(V/V0), at `x = ln V`
+    /// (classic form).
+    #[inline]
+    pub fn direct_slope(&self, x: f64) -> f64 {
+        self.a + self.a_slope * (x - self.v0.ln())
     }
 
     /// Steady-state θ_i (s) of every state variable at slip rate `v` (µm/s).
@@ -222,7 +248,7 @@ impl Model {
     }
 
     /// Steady-state friction at slip rate `v` (µm/s); for laws whose steady state is θ = s Dc/V
-    /// this is `mu0 + (a − Σ b_i) ln(V/V0)`.
+    /// this is `mu0 + (a − Σ b_i) ln(V/V0) + (a₁/2) ln²(V/V0)`.
     pub fn steady_state_friction(&self, v: f64) -> Result<f64, ModelError> {
         let th = self.steady_state_thetas(v)?;
         Ok(self.friction(v, &th))
@@ -230,7 +256,8 @@ impl Model {
 
     /// Critical stiffness `k_c = Σ_i b_i/Dc_i − a/…`, here the classic single-state result
     /// `(b − a)/Dc` generalised to `max(0, (Σ b_i − a)/min Dc)`, an upper bound used only for
-    /// messages; 0 for velocity strengthening.
+    /// messages; 0 for velocity strengthening. (With a rate-dependent direct effect, `a` is its
+    /// value at V0.)
     pub fn critical_stiffness_estimate(&self) -> f64 {
         let b: f64 = self.states.iter().map(|s| s.b).sum();
         let dc = self.states.iter().map(|s| s.dc).fold(f64::INFINITY, f64::min);

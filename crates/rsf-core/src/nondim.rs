@@ -16,7 +16,9 @@
 //! `G_j(V_i V', Dc_j θ'_j/V_i)` depends on V' and θ'_j only, so V_i drops out: a hold
 //! (V_lp = 0) from any V_i traces the same Δμ(T), i.e. the same Δμ versus `V_i t`. A step
 //! down to V_f follows that hold trajectory while V' ≫ V_f/V_i. Kato–Tullis's cut-off Vc is
-//! such a velocity scale and breaks the identity. Radiation damping is excluded (η = 0).
+//! such a velocity scale and breaks the identity; so does a rate-dependent direct effect
+//! (`Model::a_slope`, whose a + a₁ ln(V/V0) ties friction to V0). Radiation damping and a
+//! rate-dependent direct effect are excluded (η = 0, a₁ = 0).
 
 use crate::law::StateArgs;
 use crate::model::Model;
@@ -24,7 +26,7 @@ use crate::model::Model;
 /// The non-dimensional system for `model` started at steady state at slip rate `v_i` (µm/s).
 #[derive(Clone, Copy, Debug)]
 pub struct Nondimensional<'a> {
-    /// The dimensional model (classic form, η = 0).
+    /// The dimensional model (classic form, η = 0, a₁ = 0).
     pub model: &'a Model,
     /// Initial slip rate V_i, µm/s.
     pub v_i: f64,

@@ -22,7 +22,8 @@
 //! record's load-point noise, re-segmented), each refitted with the model named and the model
 //! reshaped, give the gain's null distribution. The law named is not the record's when the
 //! observed gain would arise by chance less often than the false-alarm level (or, where the
-//! replicates only lose, beyond ten times the decisive ΔBIC): the model is inadequate, whatever
+//! replicates only lose, beyond ten times the decisive ΔBIC; the level is divided by the number of
+//! reshaped models tried, the best of which was chosen): the model is inadequate, whatever
 //! p comes to (a p at its bound is reported as such: the direction is measured, the value is
 //! not). Without null replicates (`--null-replicates 0`) the decisive ΔBIC alone decides.
 //!
@@ -35,6 +36,13 @@
 //! models in the detection studies, and its replicates, whose load point followed the record's
 //! own split, did not reproduce that error: docs/diagnose/detection.md, "The form test".)
 //!
+//! **The direct effect.** The same test is run with the model named given a rate-dependent
+//! direct effect, ∂f/∂ln V = a + a₁ ln(V/V0) (`rsf_core::Model::a_slope`): a direct effect that
+//! grows or falls with the slip rate bends the steady state in ln V and makes the jumps of up-
+//! and down-steps differ, which a law of state mimics in part (the Aging–Slip law's asymmetric
+//! transients) and no reshaping of state reproduces. Fitted, back-fitted and calibrated as a
+//! reshaped law is, with one added parameter.
+//!
 //! This is a test of the model named, not a candidate: a reshaped law is never named as the
 //! cause, and the test does not run for the baseline of a `none` verdict, where no cause is
 //! claimed.
@@ -46,30 +54,47 @@ use super::evidence::{Noisy, noisy, scores};
 use super::null::{NullCalibration, gain, replicate, replicate_load_point, sequential};
 use super::{DECISIVE, DiagnoseOptions};
 use rsf_fit::data::Record;
-use rsf_fit::fit::{FitOptions, FitResult, Params, Prepared, prepare};
+use rsf_fit::fit::{FitOptions, FitResult, ParamName, Params, Prepared, prepare};
 use rsf_fit::parallel::par_map;
 use rsf_fit::segment::{Segment, SegmentOptions, detect};
 use rsf_laws::reshaped::{EXPONENT, reshaped};
 use serde::Serialize;
 use std::sync::Arc;
 
+/// What a form test changes in a model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Reshaping {
+    /// Each state's law read at a reshaped state θ_ref(θ/θ_ref)^p.
+    State,
+    /// The direct effect made rate dependent: ∂f/∂ln V = a + a₁ ln(V/V0).
+    DirectEffect,
+}
+
 /// The form test of one fitted model: the best of the reshaped models against it.
 #[derive(Clone, Debug, Serialize)]
 pub struct FormTest {
     /// The cause whose model was reshaped: the one named, or a rival's.
     pub model: Cause,
+    /// What was reshaped: the laws' state, or the direct effect.
+    pub reshaping: Reshaping,
     /// Whether that is the model named (else the best credible rival on the menu, reshaped).
     pub named: bool,
     /// The laws reshaped, one per state variable (their names as in results).
     pub laws: Vec<String>,
-    /// The fitted exponents p, one per state variable (1: the law's own form).
+    /// The fitted exponents p, one per state variable (1: the law's own form; empty when the
+    /// direct effect was reshaped).
     pub p: Vec<f64>,
+    /// The fitted rate dependence a₁ of the direct effect and a₁/a (when it was reshaped).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_slope: Option<(f64, f64)>,
     /// ΔBIC of the reshaped model against the model named, both refitted alike (negative:
     /// reshaped better).
     pub delta_bic: f64,
     /// rms of the reshaped fit over the model named's refit.
     pub rms_ratio: f64,
-    /// Exponents at a bound of their range (`p1`): the direction is measured, not the value.
+    /// Exponents (`p1`) or a₁ (`a_slope`) at a bound of their range: the direction is
+    /// measured, not the value.
     pub at_bound: Vec<String>,
     /// The null distribution of the reshaped model's gain under the model named (run when the
     /// gain is decisive).
@@ -98,10 +123,24 @@ impl FormTest {
             })
             .collect();
         let laws = self.laws.join(" and ");
-        let what = if self.named {
-            format!("{laws} read at a reshaped state θ_ref(θ/θ_ref)^p")
-        } else {
-            format!("the rival {} ({laws}) read at a reshaped state θ_ref(θ/θ_ref)^p", self.model)
+        let what = match (self.reshaping, self.named) {
+            (Reshaping::State, true) => format!("{laws} read at a reshaped state θ_ref(θ/θ_ref)^p"),
+            (Reshaping::State, false) => {
+                format!("the rival {} ({laws}) read at a reshaped state θ_ref(θ/θ_ref)^p", self.model)
+            }
+            (Reshaping::DirectEffect, _) => format!("{laws} with a direct effect a + a₁ ln(V/V0)"),
+        };
+        // the fitted values in words: the exponents, or a₁
+        let p = match self.a_slope {
+            Some((a1, ratio)) => {
+                let bound = if self.at_bound.iter().any(|n| n == "a_slope") { " (at its bound)" } else { "" };
+                vec![format!("a₁ {a1:.2e}, a₁/a {ratio:+.3}{bound}")]
+            }
+            None => vec![format!("p = {}", p.join(", "))],
+        };
+        let (whose, holds) = match self.reshaping {
+            Reshaping::State => ("its law's dependence on state", "its law's form holds"),
+            Reshaping::DirectEffect => ("its direct effect", "its direct effect holds"),
         };
         let chance = self.null.as_ref().map_or(String::new(), |n| {
             format!(
@@ -111,27 +150,26 @@ impl FormTest {
         });
         if self.misfit {
             format!(
-                "its law's dependence on state is not the record's: {what} fits decisively better (p = {}, ΔBIC {:.1}, \
-                 rms ratio {:.3}{chance})",
+                "{whose} is not the record's: {what} fits decisively better ({}, ΔBIC {:.1}, rms ratio {:.3}{chance})",
                 p.join(", "),
                 self.delta_bic,
                 self.rms_ratio
             )
         } else if self.delta_bic < DECISIVE && self.null.as_ref().is_some_and(|n| n.uninformative) {
             format!(
-                "its law's form holds: {what} gains ΔBIC {:.1} (p = {}), but its null replicates only lost, so they \
+                "{holds}: {what} gains ΔBIC {:.1} ({}), but its null replicates only lost, so they \
                  describe nothing, and the gain is short of the {BLIND_DECISIVE:.0} asked then{chance}",
                 self.delta_bic,
                 p.join(", ")
             )
         } else if self.delta_bic < DECISIVE {
             format!(
-                "its law's form holds: {what} gains ΔBIC {:.1} (p = {}), no more than the record's noise gives it{chance}",
+                "{holds}: {what} gains ΔBIC {:.1} ({}), no more than the record's noise gives it{chance}",
                 self.delta_bic,
                 p.join(", ")
             )
         } else {
-            format!("its law's form holds ({what}: p = {}, ΔBIC {:+.1})", p.join(", "), self.delta_bic)
+            format!("{holds} ({what}: {}, ΔBIC {:+.1})", p.join(", "), self.delta_bic)
         }
     }
 }
@@ -147,14 +185,33 @@ struct Refit {
 }
 
 /// `o`'s model fitted to `rec` (segments `segs`) warm from `from`, one start, on a candidate's
-/// budget, its laws reshaped or not.
-fn refit(ctx: &Ctx, rec: &Record, segs: &[Segment], o: &FitOptions, from: &Params, reshape: bool) -> Option<Refit> {
-    let laws = if reshape {
-        o.laws.iter().map(|l| reshaped(Arc::clone(l))).collect::<Result<Vec<_>, String>>().ok()?
-    } else {
-        o.laws.clone()
+/// budget, as it is or reshaped.
+fn refit(
+    ctx: &Ctx,
+    rec: &Record,
+    segs: &[Segment],
+    o: &FitOptions,
+    from: &Params,
+    shape: Option<Reshaping>,
+) -> Option<Refit> {
+    let laws = match shape {
+        Some(Reshaping::State) => {
+            o.laws.iter().map(|l| reshaped(Arc::clone(l))).collect::<Result<Vec<_>, String>>().ok()?
+        }
+        Some(Reshaping::DirectEffect) | None => o.laws.clone(),
     };
-    let or = FitOptions { laws, starts: 1, budget: ctx.cand_opts.budget, threads: 1, ..o.clone() };
+    let fit_a_slope = o.fit_a_slope || shape == Some(Reshaping::DirectEffect);
+    // a₁ is measured within the slip rates the record's baseline reaches
+    let a_slope_range = if fit_a_slope { Some(ctx.v_range) } else { o.a_slope_range };
+    let or = FitOptions {
+        laws,
+        fit_a_slope,
+        a_slope_range,
+        starts: 1,
+        budget: ctx.cand_opts.budget,
+        threads: 1,
+        ..o.clone()
+    };
     let p = prepare(rec, segs, &or).ok()?;
     let f = ctx.fit_best(&p, &or, from, 1)?;
     let n = noisy(&f);
@@ -166,26 +223,34 @@ fn refit(ctx: &Ctx, rec: &Record, segs: &[Segment], o: &FitOptions, from: &Param
 /// a parameter named [`EXPONENT`]) or fitted.
 pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted]) -> Option<FormTest> {
     let (rec, segs) = (ctx.rec, ctx.segs);
-    // (is it the model named, (cause, options, its fit))
-    let models: Vec<(bool, Fitted)> =
-        std::iter::once((true, named)).chain(rivals.iter().map(|&r| (false, r))).collect();
+    // (is it the model named, what is reshaped, (cause, options, its fit)): the model named's
+    // state and direct effect, each rival's state
+    // (a model that already fits a₁ has no direct effect to reshape)
+    let models: Vec<(bool, Reshaping, Fitted)> =
+        [(true, Reshaping::State, named), (true, Reshaping::DirectEffect, named)]
+            .into_iter()
+            .filter(|&(_, shape, (_, o, _))| shape == Reshaping::State || !o.fit_a_slope)
+            .chain(rivals.iter().map(|&r| (false, Reshaping::State, r)))
+            .collect();
     let o_named = named.1;
     // the model named refitted as it is, then each model reshaped
-    let jobs: Vec<(bool, &FitOptions, &FitResult)> =
-        std::iter::once((false, o_named, named.2)).chain(models.iter().map(|&(_, (_, o, f))| (true, o, f))).collect();
-    let mut first = par_map(&jobs, ctx.opts.threads, |&(re, o, f)| refit(ctx, rec, segs, o, &f.params, re)).into_iter();
+    let jobs: Vec<(Option<Reshaping>, &FitOptions, &FitResult)> = std::iter::once((None, o_named, named.2))
+        .chain(models.iter().map(|&(_, shape, (_, o, f))| (Some(shape), o, f)))
+        .collect();
+    let mut first =
+        par_map(&jobs, ctx.opts.threads, |&(shape, o, f)| refit(ctx, rec, segs, o, &f.params, shape)).into_iter();
     let control = first.next().flatten()?;
     let shaped: Vec<Option<Refit>> = first.collect();
-    // each model back from its reshaped optimum, exponents at 1
+    // each model back from its reshaped optimum, exponents at 1 and a₁ at 0
     let back = par_map(&(0..models.len()).collect::<Vec<_>>(), ctx.opts.threads, |&i| {
-        refit(ctx, rec, segs, models[i].1.1, &shaped[i].as_ref()?.f.params, false)
+        refit(ctx, rec, segs, models[i].2.1, &shaped[i].as_ref()?.f.params, None)
     });
     let better = |a: &Refit, b: &Refit| scores(&a.f, &a.n, &b.f, &b.n).0 < 0.0;
     let tried: Vec<(FormTest, &Refit, &Refit)> = models
         .iter()
         .zip(&shaped)
         .zip(&back)
-        .filter_map(|((&(is_named, (cause, o, _)), r), b)| {
+        .filter_map(|((&(is_named, reshaping, (cause, o, _)), r), b)| {
             let r = r.as_ref()?;
             // what the model named reaches without the exponents
             let against = match b.as_ref() {
@@ -198,14 +263,24 @@ pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted]) -> Option<F
                 delta_bic = delta_bic.max(scores(&b.f, &b.n, &r.f, &r.n).0);
             }
             let names: Vec<String> = o.laws.iter().map(|l| l.name()).collect();
-            let exponents: Vec<String> = (1..=names.len()).map(|i| format!("{EXPONENT}{i}")).collect();
-            let p = exponents.iter().map(|e| r.f.params.law_params.get(e).copied().unwrap_or(f64::NAN)).collect();
-            let at_bound = r.f.at_bound.iter().filter(|n| exponents.contains(n)).cloned().collect();
+            let added: Vec<String> = match reshaping {
+                Reshaping::State => (1..=names.len()).map(|i| format!("{EXPONENT}{i}")).collect(),
+                Reshaping::DirectEffect => vec![ParamName::ASlope.text()],
+            };
+            let (p, a_slope) = match reshaping {
+                Reshaping::State => {
+                    (added.iter().map(|e| r.f.params.law_params.get(e).copied().unwrap_or(f64::NAN)).collect(), None)
+                }
+                Reshaping::DirectEffect => (vec![], Some((r.f.params.a_slope, r.f.params.a_slope / r.f.params.a))),
+            };
+            let at_bound = r.f.at_bound.iter().filter(|n| added.contains(n)).cloned().collect();
             let t = FormTest {
                 model: cause,
+                reshaping,
                 named: is_named,
                 laws: names,
                 p,
+                a_slope,
                 delta_bic,
                 rms_ratio: r.f.rms / against.f.rms,
                 at_bound,
@@ -220,22 +295,27 @@ pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted]) -> Option<F
     if !(best.delta_bic < DECISIVE) {
         return Some(best);
     }
-    let shaped_opts = models.iter().find(|m| m.0 == best.named && m.1.0 == best.model).map(|m| m.1)?;
+    let shaped_opts =
+        models.iter().find(|m| m.0 == best.named && m.1 == best.reshaping && m.2.0 == best.model).map(|m| m.2)?;
     if ctx.opts.null_replicates > 0 {
-        best.null = null(ctx, &control, o_named, shaped_opts, gain(&against.f, &against.n, &r.f, &r.n), &r.n);
+        let observed = gain(&against.f, &against.n, &r.f, &r.n);
+        best.null = null(ctx, &control, o_named, (best.reshaping, shaped_opts), observed, &r.n);
     }
-    best.misfit = significant(ctx.opts, best.delta_bic, best.null.as_ref());
+    best.misfit = significant(ctx.opts, best.delta_bic, best.null.as_ref(), tried.len());
     Some(best)
 }
 
-/// Whether a decisive gain (`delta_bic`) is beyond chance under its `null` (none: no replicates
-/// were asked for, and the decisive ΔBIC decides): below the false-alarm level, or, where the
-/// replicates only lose (their null describes nothing), beyond ten times the decisive ΔBIC.
-fn significant(opts: &DiagnoseOptions, delta_bic: f64, null: Option<&NullCalibration>) -> bool {
+/// Whether a decisive gain (`delta_bic`), the best of `tried` reshaped models, is beyond chance
+/// under its `null` (none: no replicates were asked for, and the decisive ΔBIC decides): below
+/// the false-alarm level divided by `tried` (Bonferroni: the best of several gains is chosen
+/// before its null is drawn, and each reshaping tried is one more chance for the truth to
+/// lose), or, where the replicates only lose (their null describes nothing), beyond ten times
+/// the decisive ΔBIC.
+fn significant(opts: &DiagnoseOptions, delta_bic: f64, null: Option<&NullCalibration>, tried: usize) -> bool {
     match null {
         None => opts.null_replicates == 0,
         Some(n) if n.uninformative => delta_bic < BLIND_DECISIVE,
-        Some(n) => n.false_alarm_probability < opts.false_alarm_level,
+        Some(n) => n.false_alarm_probability < opts.false_alarm_level / tried.max(1) as f64,
     }
 }
 
@@ -248,12 +328,16 @@ fn null(
     ctx: &Ctx,
     control: &Refit,
     o_named: &FitOptions,
-    shaped: Fitted,
+    (reshaping, shaped): (Reshaping, Fitted),
     observed: f64,
     nr: &Noisy,
 ) -> Option<NullCalibration> {
     let (_, o_shaped, from_shaped) = shaped;
-    let dk = shaped.1.laws.len() + from_shaped.n_free.saturating_sub(control.f.n_free);
+    let added = match reshaping {
+        Reshaping::State => o_shaped.laws.len(),
+        Reshaping::DirectEffect => 1,
+    };
+    let dk = added + from_shaped.n_free.saturating_sub(control.f.n_free);
     let one = |seed: &u64| -> Option<f64> {
         let mut rec = replicate(&control.p, &control.f, &nr.model, *seed);
         let segs = match ctx.lp_noise {
@@ -263,8 +347,8 @@ fn null(
             }
             None => control.p.segments.clone(),
         };
-        let fb = refit(ctx, &rec, &segs, o_named, &control.f.params, false)?;
-        let fr = refit(ctx, &rec, &segs, o_shaped, &from_shaped.params, true)?;
+        let fb = refit(ctx, &rec, &segs, o_named, &control.f.params, None)?;
+        let fr = refit(ctx, &rec, &segs, o_shaped, &from_shaped.params, Some(reshaping))?;
         Some(gain(&fb.f, &fb.n, &fr.f, &fr.n))
     };
     sequential(ctx.opts, observed, dk, one)

@@ -82,7 +82,7 @@ pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, ef
 pub use coherence::{Coherence, EventDirection, EventProfile, SIGN_PATTERNS};
 pub use events::{EventFit, EventKind, event_windows, per_event_fits};
 pub use evidence::{Noisy, noisy};
-pub use form::FormTest;
+pub use form::{FormTest, Reshaping};
 pub use levels::{LevelMisfit, LevelTest, level_test};
 pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
 pub use quiet::{QuietStretch, QuietTest, quiet_test};

@@ -30,7 +30,9 @@ pub(super) fn initial_for(p: &Prepared, o: &FitOptions, from: &Params) -> Option
                     || match n {
                         ParamName::Mu0 | ParamName::A | ParamName::K | ParamName::G => true,
                         ParamName::B(i) | ParamName::Dc(i) => *i <= o.laws.len(),
-                        ParamName::Alpha(_) | ParamName::Law(..) | ParamName::Mu0Seg(_) => false,
+                        // a₁ only where the model fits it: elsewhere it would be fixed at the
+                        // nested model's value, not at the model's own 0
+                        ParamName::ASlope | ParamName::Alpha(_) | ParamName::Law(..) | ParamName::Mu0Seg(_) => false,
                     }
             })
             .collect(),

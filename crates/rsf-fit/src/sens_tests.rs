@@ -43,6 +43,8 @@ fn worst_errors(base: &Model, mk: &dyn Fn(Model) -> Problem, s: &SensSolution, j
 fn sensitivities_match_finite_differences() {
     let models = vec![
         Model::new(0.6, 1.0, 0.011, 0.02).with_state(StateVariable::new(Slip, 0.014, 3.0)),
+        // a rate-dependent direct effect, a + a₁ ln(V/V0): its column too
+        Model::new(0.6, 1.0, 0.011, 0.02).with_state(StateVariable::new(Slip, 0.014, 3.0)).with_a_slope(4e-4),
         Model::new(0.6, 1.0, 0.011, 0.02)
             .with_state(StateVariable::new(Slip, 0.009, 3.0))
             .with_state(StateVariable::new(Aging, 0.005, 30.0))
@@ -187,6 +189,33 @@ fn sensitivities_follow_normal_stress_changes() {
     // α matters: its column is far from zero
     let ja = rsf_core::state_offset(0) + 3;
     assert!((0..s.mu.len()).any(|r| s.dmu[r * np + ja].abs() > 1e-3));
+}
+
+/// Every column of the fixed block carried at once — one Kato–Tullis state under a measured
+/// normal stress, with α, a slip trend and a rate-dependent direct effect: nine columns, the
+/// block's whole width, and each against central differences.
+#[test]
+fn the_whole_fixed_block_is_carried() {
+    let mut base = Model::new(0.6, 1.0, 0.011, 0.02)
+        .with_state(StateVariable::new(KatoTullis { vc: 0.05 }, 0.014, 3.0).with_alpha(0.25))
+        .with_normal_stress(10.0)
+        .with_a_slope(3e-4);
+    base.slip_trend = 1e-5;
+    let segs =
+        vec![Segment::for_duration(1.0, 200.0), Segment::for_duration(10.0, 3.0), Segment::for_duration(0.1, 60.0)];
+    let sn = rsf_core::NormalStressRecord { time: vec![0.0, 100.0, 102.0, 263.0], sigma: vec![10.0, 10.0, 12.0, 12.0] };
+    let mk = |m: Model| {
+        let mut p = Problem::new(m, Loading::Segments(segs.clone()), 1.0, 1.0);
+        p.normal_stress = Some(sn.clone());
+        p
+    };
+    assert_eq!(carried(&base, true, &every(&base)).map(|c| c.len()), Some(9));
+    let s =
+        solve_with_sensitivities(&mk(base.clone()), 1e-11, 1e-14, crate::fit::FIT_MAX_STEPS, &every(&base)).unwrap();
+    let all: Vec<usize> = (0..s.n_params).collect();
+    for (j, worst) in worst_errors(&base, &mk, &s, &all) {
+        assert!(worst < 2e-4, "parameter {j}: max rel error {worst:e}");
+    }
 }
 
 /// A stiff machine (k = 10 /µm, Dc = 0.1 µm: the spring relaxes in a/(kV) ≈ 1e-4 s while

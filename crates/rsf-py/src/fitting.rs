@@ -145,7 +145,7 @@ fn alpha_fit(fit_alpha: Option<&str>) -> PyResult<rsf_fit::fit::AlphaFit> {
     normal_stress=None, normal_stress_mode="auto", fit_alpha=None, laws=None, fit_slip_trend=false,
     fix=vec![], initial=vec![], rtol=1e-7, starts=4, mcmc=None, chains=4, seed=1, progress=false,
     window_um=None, mu0_per_segment=false, weights="equal", per_segment=false, threads=0, max_iter=100,
-    accept_implausible=false, uncertainty="noise-model"))]
+    accept_implausible=false, uncertainty="noise-model", fit_a_slope=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_json(
     py: Python<'_>,
@@ -177,6 +177,7 @@ pub fn fit_json(
     max_iter: usize,
     accept_implausible: bool,
     uncertainty: &str,
+    fit_a_slope: bool,
 ) -> PyResult<FitOut> {
     if max_iter == 0 {
         return Err(value_error("max_iter must be at least 1"));
@@ -198,6 +199,7 @@ pub fn fit_json(
     opts.normal_stress = word::<rsf_fit::fit::NormalStressMode>(normal_stress_mode)?;
     opts.alpha = alpha_fit(fit_alpha)?;
     opts.fit_slip_trend = fit_slip_trend;
+    opts.fit_a_slope = fit_a_slope;
     opts.fix = fix.iter().map(|c| word::<rsf_fit::fit::Constraint>(c)).collect::<PyResult<_>>()?;
     opts.initial =
         initial.into_iter().map(|(n, v)| Ok((word::<rsf_fit::fit::ParamName>(&n)?, v))).collect::<PyResult<_>>()?;

@@ -118,6 +118,25 @@ def test_fit_equals_the_cli():
     assert one["params"] == py["params"] and one["rms"] == py["rms"] and one["steps"] == py["steps"]
 
 
+def test_fit_a_rate_dependent_direct_effect_equals_the_cli():
+    """`fit_a_slope`: a₁ of the generator's rate-dependent direct effect (5.909e-4,
+    tests/data/outside/SOURCE.md), as the CLI's `--fit-a-slope` gives it."""
+    path = os.path.join(ROOT, "tests", "data", "outside", "rate_a_short_steps.csv")
+    rec = rsf.read_record(path)
+    k = 0.011935249730937679
+    py = rsf.fit(rec, law="slip", stiffness=k, fit_a_slope=True)
+    assert abs(py["params"]["a_slope"] / 5.909e-4 - 1) < 0.1
+    with tempfile.TemporaryDirectory() as d:
+        j = os.path.join(d, "f.json")
+        cli("fit", path, "--law", "slip", "--stiffness", repr(k), "--fit-a-slope", "--loading", "protocol",
+            "--json", j)
+        ref = json.load(open(j))
+    assert py["params"]["a_slope"] == pytest.approx(ref["params"]["a_slope"], rel=1e-9)
+    assert "a_slope" in ref["stderr"]
+    # not fitted: not reported
+    assert "a_slope" not in rsf.fit(rec, law="slip", stiffness=k)["params"]
+
+
 def test_diagnose_equals_the_cli():
     rec = rsf.read_record(BASALT, **COLS)
     py = rsf.diagnose(rec, stiffness=0.0151)

@@ -3,7 +3,7 @@
 
 use super::words::cause_words;
 use super::{chart, charts, esc, table};
-use rsf_diagnose::Diagnosis;
+use rsf_diagnose::{Diagnosis, Reshaping};
 use rsf_plot::fmt_num;
 
 /// The adequacy test of the model named: in words, the figure of misfit by event against the
@@ -166,7 +166,8 @@ fn levels(d: &Diagnosis) -> String {
     format!("<p class=\"note\">{}</p>{}", esc(&words), table("", &head, &rows))
 }
 
-/// The form test: the law named, and the runner-up's, read at a reshaped state.
+/// The form test: the law named, and the runner-up's, read at a reshaped state; or the model
+/// named with a rate-dependent direct effect.
 fn form(d: &Diagnosis) -> String {
     let Some(f) = &d.adequacy.form else {
         return String::new();
@@ -176,21 +177,42 @@ fn form(d: &Diagnosis) -> String {
     } else {
         format!("the law of the best rival, {} ({})", cause_words(f.model), f.laws.join(" and "))
     };
-    let p: Vec<String> = f.p.iter().map(|p| fmt_num(*p, 3)).collect();
+    let (what, wrong) = match (f.reshaping, f.a_slope) {
+        (Reshaping::DirectEffect, Some((a1, ratio))) => (
+            format!(
+                "the model named with a rate-dependent direct effect, ∂f/∂ln V = a + a₁ ln(V/V0) (a₁ = 0 is the \
+                 model itself), fitted warm from its optimum: a₁ = {}, a₁/a = {}",
+                fmt_num(a1, 3),
+                fmt_num(ratio, 3)
+            ),
+            "the model named has the wrong direct effect — one that changes with the slip rate, which bends \
+             the steady state and makes up- and down-steps jump unlike",
+        ),
+        (Reshaping::DirectEffect, None) | (Reshaping::State, _) => {
+            let p: Vec<String> = f.p.iter().map(|p| fmt_num(*p, 3)).collect();
+            (
+                format!(
+                    "{whose}, read at a reshaped state θ' = θ_ref (θ/θ_ref)^p (p = 1 is the law itself; θ_ref its \
+                     steady state), fitted warm from its optimum: p = {}",
+                    p.join(", ")
+                ),
+                "the model named has the wrong dependence on state — a near neighbour of the record's law, which \
+                 the residual tests cannot tell from it at this noise",
+            )
+        }
+    };
     let words = format!(
-        "Form: {whose}, read at a reshaped state θ' = θ_ref (θ/θ_ref)^p (p = 1 is the law itself; θ_ref its \
-         steady state), fitted warm from its optimum: p = {}, ΔBIC {} against the model named, rms ratio {}. {}",
-        p.join(", "),
+        "Form: {what}, ΔBIC {} against the model named, rms ratio {}. {}",
         fmt_num(f.delta_bic, 4),
         fmt_num(f.rms_ratio, 4),
         if f.misfit {
-            "It fits decisively better: the model named has the wrong dependence on state — a near neighbour of \
-             the record's law, which the residual tests cannot tell from it at this noise — and explains nothing."
+            format!("It fits decisively better: {wrong} — and explains nothing.")
         } else if f.delta_bic < rsf_diagnose::DECISIVE {
-            "The gain is no more than the record's noise gives a reshaped model when the model named is true \
-             (its null replicates): the law's form is the record's as far as the record can tell."
+            "The gain is no more than the record's noise gives the reshaped model when the model named is true \
+             (its null replicates): the model's form is the record's as far as the record can tell."
+                .into()
         } else {
-            "No reshaping earns its parameter: the law's form is the record's as far as the record can tell."
+            "No reshaping earns its parameter: the model's form is the record's as far as the record can tell.".into()
         }
     );
     format!("<p class=\"note\">{}</p>", esc(&words))

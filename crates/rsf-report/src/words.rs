@@ -89,6 +89,7 @@ pub(crate) fn param_meta(key: &str) -> (String, &'static str, &'static str) {
         ParamName::A => ("a".into(), "", "direct effect"),
         ParamName::K => ("k".into(), "/µm", "machine stiffness (friction per µm of load point)"),
         ParamName::G => ("g".into(), "/µm", "friction change per µm of slip"),
+        ParamName::ASlope => ("a₁".into(), "", "change of the direct effect per e-fold of slip rate"),
         ParamName::B(i) => (
             format!("b{}", subscript(i)),
             "",
@@ -127,7 +128,7 @@ pub fn effect_summary(effect: &Effect) -> String {
 }
 
 /// The parameters of a fit as rows (name, value with unit and ± where fitted, fixed or not):
-/// μ₀, a, b and Dc per state, law parameters, k, and g when it was fitted or set.
+/// μ₀, a, b and Dc per state, law parameters, k, and g and a₁ when fitted or set.
 pub fn param_rows(f: &FitResult) -> Vec<(String, String, bool)> {
     let p = &f.params;
     let mut v: Vec<(String, f64)> = vec![("mu0".into(), p.mu0), ("a".into(), p.a)];
@@ -139,6 +140,9 @@ pub fn param_rows(f: &FitResult) -> Vec<(String, String, bool)> {
     v.push(("k".into(), p.k));
     if p.g != 0.0 || f.stderr.contains_key("g") {
         v.push(("g".into(), p.g));
+    }
+    if p.a_slope != 0.0 || f.stderr.contains_key("a_slope") {
+        v.push(("a_slope".into(), p.a_slope));
     }
     v.into_iter()
         .map(|(k, x)| {

@@ -157,6 +157,12 @@ impl<'a> SpringSlider<'a> {
             }
             form => form.friction_ln(m.mu0, m.a, self.ln_v0, y[0], self.state_psi(y)),
         };
+        let f = if m.a_slope != 0.0 {
+            let xr = y[0] - self.ln_v0;
+            f + 0.5 * m.a_slope * xr * xr
+        } else {
+            f
+        };
         let damping = if m.eta != 0.0 { m.eta * y[0].exp() } else { 0.0 };
         f + damping + m.slip_trend * y[n + 1]
     }
@@ -243,15 +249,29 @@ impl<'a> SpringSlider<'a> {
         }
         dy[0] = if imposed {
             0.0
-        } else if log_rate == 0.0 && m.eta == 0.0 && m.form == crate::FrictionForm::Classic {
+        } else if log_rate == 0.0 && m.eta == 0.0 && m.form == crate::FrictionForm::Classic && m.a_slope == 0.0 {
             // ∂f/∂x = a, ∂f/∂Ψ = 1: dx/dt = (τ̇ − gV − Ψ̇)/a
             (tau_rate * self.inv_a - (m.slip_trend * self.inv_a) * v) - psi_rate_a
         } else {
-            let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
+            let fe = self.friction_eval(x, y);
             let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * self.stress(y) };
             (r - m.slip_trend * v - fe.f_psi * psi_rate) / (fe.f_x + m.eta * v)
         };
         dy[n + 1] = v;
+    }
+
+    /// The friction's partials at `x = ln V` and `y`: the form's, with the rate dependence of
+    /// the direct effect added (∂f/∂x gains a₁ (x − ln V0), whose own x-derivative a₁ is
+    /// `bend_fx_dx`; it does not depend on Ψ).
+    #[inline]
+    fn friction_eval(&self, x: f64, y: &[f64]) -> crate::friction::FrictionEval {
+        let m = self.model;
+        let mut fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
+        if m.a_slope != 0.0 {
+            fe.f_x += m.a_slope * (x - self.ln_v0);
+            fe.bend_fx_dx = m.a_slope;
+        }
+        fe
     }
 
     #[inline]
@@ -297,8 +317,10 @@ impl<'a> SpringSlider<'a> {
         let imposed = m.imposed_velocity();
         let tau_rate = if imposed { 0.0 } else { m.stiffness * (self.v_lp - v) / s };
         let dtau_dx = if imposed { 0.0 } else { -m.stiffness * v / s };
-        // the classic form's ∂f/∂x + ηV (the parameter derivatives' denominator)
-        let den_classic = m.a + m.eta * v;
+        // the classic form's ∂f/∂x + ηV (the parameter derivatives' denominator), with the
+        // direct effect's rate dependence
+        let xr = x - self.ln_v0;
+        let den_classic = m.a + m.a_slope * xr + m.eta * v;
         let mut psi_rate = 0.0;
         let mut dpsi_rate_dx = 0.0;
         let mut dpsi_dk = 0.0;
@@ -360,7 +382,7 @@ impl<'a> SpringSlider<'a> {
             dy[0] = 0.0;
             return Ok(());
         }
-        let fe = m.form.eval(m.mu0, m.a, m.v0, x, self.psi(y));
+        let fe = self.friction_eval(x, y);
         let mu = if log_rate == 0.0 { 0.0 } else { self.stress(y) };
         let r = if log_rate == 0.0 { tau_rate } else { tau_rate - log_rate * mu };
         let num = r - m.slip_trend * v - fe.f_psi * psi_rate;
@@ -370,7 +392,7 @@ impl<'a> SpringSlider<'a> {
         // column x (∂μ/∂x = f_x + ηV enters R through −(ṡ/s) μ)
         let dr_dx = dtau_dx - log_rate * den;
         let dnum_dx = dr_dx - m.slip_trend * v - fe.f_psi * dpsi_rate_dx - psi_rate * fe.d_fpsi_dl;
-        let dden_dx = fe.d_fx_dl + m.eta * v;
+        let dden_dx = fe.d_fx_dl + fe.bend_fx_dx + m.eta * v;
         jac[at(0, 0)] = (dnum_dx - xdot * dden_dx) / den;
         // columns z_j: ∂L/∂z_j = b_j / a, ∂μ/∂z_j = f_Ψ b_j
         for (jdx, st) in m.states.iter().enumerate() {
@@ -389,6 +411,8 @@ impl<'a> SpringSlider<'a> {
             fp[at(0, 1)] = -xdot / den_classic;
             fp[at(0, 2)] = ((self.v_lp - v) / s - dpsi_dk) / den_classic;
             fp[at(0, 3)] = -v / den_classic;
+            // a₁ enters ∂f/∂x as a₁ (x − ln V0)
+            fp[at(0, 4)] = -xdot * xr / den_classic;
             if log_rate != 0.0 {
                 // R = k (V_lp − V)/s − (ṡ/s) μ: μ's own parameter dependence
                 let mut gy = vec![0.0; d];
@@ -452,9 +476,12 @@ impl<'a> SpringSlider<'a> {
                 "no slip rate carries friction {mu_plus} after the normal-stress step {sigma_minus} → {sigma_plus} MPa: {why}"
             )
         };
+        if m.eta != 0.0 && m.a_slope != 0.0 {
+            return Err(fail("a rate-dependent direct effect with radiation damping has no slip-rate solve".into()));
+        }
         y[0] = if m.eta == 0.0 {
             // the friction law inverted in closed form
-            match m.form.slip_rate(m.mu0, m.a, m.v0, target, psi) {
+            match slip_rate_of(m, target, psi) {
                 Some(v) if v > 0.0 && v.is_finite() => v.ln(),
                 _ => return Err(fail("the friction law has no positive root".into())),
             }
@@ -465,4 +492,22 @@ impl<'a> SpringSlider<'a> {
         };
         Ok(())
     }
+}
+
+/// The slip rate V (µm/s) at which `m`'s friction (without damping) equals `mu` for the state
+/// contribution `psi`: the form's inverse, or with a rate-dependent direct effect the root of
+/// `(a₁/2) X² + a X = r`, `X = ln(V/V0)`, `r = mu − μ0 − Ψ`, on the branch where the local slope
+/// a + a₁X = sqrt(a² + 2a₁r) is positive (written without cancellation); `None` where no
+/// positive V exists.
+pub(crate) fn slip_rate_of(m: &Model, mu: f64, psi: f64) -> Option<f64> {
+    if m.a_slope == 0.0 {
+        return m.form.slip_rate(m.mu0, m.a, m.v0, mu, psi);
+    }
+    let r = mu - m.mu0 - psi;
+    let disc = m.a * m.a + 2.0 * m.a_slope * r;
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let x = 2.0 * r / (m.a + disc.sqrt());
+    Some(m.v0 * x.exp())
 }

@@ -4,15 +4,15 @@
 use super::SpringSlider;
 use crate::model::Model;
 
-/// Number of global parameters in the sensitivity layout: `mu0, a, k, g`.
-pub const N_GLOBAL: usize = 4;
+/// Number of global parameters in the sensitivity layout: `mu0, a, k, g, a_slope`.
+pub const N_GLOBAL: usize = 5;
 
 /// Parameters per state variable in the layout of [`n_params`]: `b, dc, q, alpha`.
 pub const PER_STATE: usize = 4;
 
 /// Number of entries of the fixed block of the parameter layout with `n` state variables:
-/// `[mu0, a, k, g, b_1, dc_1, q_1, alpha_1, …, b_n, dc_n, q_n, alpha_n]`, where g is the slip
-/// trend, `q_i` the law's first own parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws
+/// `[mu0, a, k, g, a_slope, b_1, dc_1, q_1, alpha_1, …, b_n, dc_n, q_n, alpha_n]`, where g is
+/// the slip trend, `a_slope` the rate dependence a₁ of the direct effect, `q_i` the law's first own parameter (Kato–Tullis `vc`, Nagata `c`; unused for laws
 /// without one) and `alpha_i` the Linker–Dieterich normal-stress coupling. A law with more than
 /// one own parameter has the others after this block ([`extra_law_parameters`]); the whole
 /// layout has [`n_params_of`] entries.
@@ -47,7 +47,7 @@ pub fn state_offset(i: usize) -> usize {
 impl Model {
     /// The parameters in the layout of [`n_params_of`] (an unused law-parameter slot is 0).
     pub fn parameter_vector(&self) -> Vec<f64> {
-        let mut p = vec![self.mu0, self.a, self.stiffness, self.slip_trend];
+        let mut p = vec![self.mu0, self.a, self.stiffness, self.slip_trend, self.a_slope];
         for s in &self.states {
             p.extend([s.b, s.dc, s.law.parameters().first().map(|x| x.1).unwrap_or(0.0), s.alpha]);
         }
@@ -69,6 +69,7 @@ impl Model {
         m.a = p[1];
         m.stiffness = p[2];
         m.slip_trend = p[3];
+        m.a_slope = p[4];
         for (i, s) in m.states.iter_mut().enumerate() {
             s.b = p[state_offset(i)];
             s.dc = p[state_offset(i) + 1];
@@ -95,6 +96,7 @@ pub fn param_index(model: &Model, name: &str) -> Option<usize> {
         "a" => return Some(1),
         "k" | "stiffness" => return Some(2),
         "g" | "slip_trend" => return Some(3),
+        "a_slope" => return Some(4),
         _ => {}
     }
     let split = name.find(|c: char| c.is_ascii_digit()).unwrap_or(name.len());
@@ -190,9 +192,11 @@ impl SpringSlider<'_> {
         dtau_dp.iter_mut().for_each(|v| *v = 0.0);
         // ln V0 and ln Dc from the system's per-piece constants (a sensitivity solve takes these
         // gradients at every output row)
-        dtau_dy[0] = if m.eta == 0.0 { m.a } else { m.a + m.eta * y[0].exp() };
+        let xr = y[0] - self.ln_v0;
+        dtau_dy[0] = if m.eta == 0.0 { m.a + m.a_slope * xr } else { m.a + m.a_slope * xr + m.eta * y[0].exp() };
         dtau_dp[0] = 1.0;
-        dtau_dp[1] = y[0] - self.ln_v0;
+        dtau_dp[1] = xr;
+        dtau_dp[4] = 0.5 * xr * xr;
         dtau_dy[n + 1] = m.slip_trend;
         dtau_dp[3] = y[n + 1];
         for (i, s) in m.states.iter().enumerate() {
@@ -273,7 +277,7 @@ impl SpringSlider<'_> {
         };
         let dz_dq = dg_dq / theta;
         col[1 + i] = dz_dq;
-        col[0] = -st.b * dz_dq / (m.a + m.eta * v);
+        col[0] = -st.b * dz_dq / (m.direct_slope(y[0]) + m.eta * v);
         Ok(())
     }
 }

@@ -49,6 +49,12 @@ fn models() -> Vec<Model> {
             .with_form(FrictionForm::Regularized),
         base(0.03).with_state(StateVariable::new(Aging, 0.015, 3.0)).with_slip_trend(-3e-5),
         base(f64::INFINITY).with_state(StateVariable::new(Slip, 0.015, 3.0)),
+        // a rate-dependent direct effect: ∂f/∂ln V = a + a₁ ln(V/V0) (7)
+        base(0.05).with_state(StateVariable::new(Slip, 0.015, 3.0)).with_a_slope(6e-4),
+        base(0.02)
+            .with_state(StateVariable::new(Aging, 0.008, 3.0))
+            .with_state(StateVariable::new(StressRate, 0.004, 10.0))
+            .with_a_slope(-5e-4),
     ]
 }
 
@@ -92,7 +98,7 @@ fn jacobian_matches_central_differences() {
             let t = 5.0;
             // a point off steady state
             let mut y: Vec<f64> = (0..d).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
-            y[0] = -4.0 + mi as f64;
+            y[0] = -4.0 + (mi % 10) as f64;
             let mut f = vec![0.0; d];
             let mut jac = vec![0.0; d * d];
             sys.jacobian(t, &y, &mut f, &mut jac);
@@ -164,7 +170,8 @@ fn parameter_jacobian_matches_central_differences() {
             .with_state(StateVariable::new(StressRate, 0.004, 20.0))
             .with_state(StateVariable::new(Kt { vc: 0.3 }, 0.003, 7.0))
             .with_eta(0.01)
-            .with_slip_trend(2e-5);
+            .with_slip_trend(2e-5)
+            .with_a_slope(4e-4);
         let piece = if ramp {
             base = base.with_normal_stress(10.0);
             base.states[0].alpha = 0.3;
@@ -261,12 +268,44 @@ fn normal_stress_step_matches_closed_forms() {
         let mut y = y0.clone();
         sys.normal_stress_step(&mut y, sm, sp).unwrap();
         assert!((sys.stress(&y) - sys.stress(&y0) * sm / sp).abs() < 1e-12, "regularized: τ continuous");
+        // a rate-dependent direct effect: the quadratic's root keeps τ continuous, on the branch
+        // where the local slope a + a₁ ln(V/V0) is positive, for either sign of a₁
+        for a_slope in [2e-4, -2e-4] {
+            let m = two(0.01).with_a_slope(a_slope);
+            let sys = SpringSlider::new(&m, 1.0);
+            let mut y = y0.clone();
+            sys.normal_stress_step(&mut y, sm, sp).unwrap();
+            assert!((sys.stress(&y) - sys.stress(&y0) * sm / sp).abs() < 1e-14, "a_slope {a_slope}: τ continuous");
+            assert!(m.direct_slope(y[0]) > 0.0);
+        }
     }
+}
+
+/// The quadratic inversion of a rate-dependent direct effect: exact round trips over ten
+/// decades of V for either sign of a₁, and `None` beyond the friction's extremum.
+#[test]
+fn rate_dependent_direct_effect_inverts() {
+    for a_slope in [1e-3, -1e-3, 1e-9, 0.0] {
+        let m =
+            Model::new(0.6, 1.0, 0.011, 0.01).with_state(StateVariable::new(Slip, 0.009, 3.0)).with_a_slope(a_slope);
+        for x in [-5.0f64, -1.0, 0.0, 0.5, 5.0] {
+            let psi = 0.013;
+            let mu = m.form.friction(m.mu0, m.a, m.v0, x, psi) + 0.5 * a_slope * x * x;
+            let v = slip_rate_of(&m, mu, psi).unwrap();
+            assert!((v.ln() - x).abs() < 1e-12, "a_slope {a_slope}, x {x}: {}", v.ln());
+        }
+    }
+    // a₁ > 0: friction has its minimum μ0 + Ψ − a²/(2a₁) at ln(V/V0) = −a/a₁
+    let m = Model::new(0.6, 1.0, 0.011, 0.01).with_state(StateVariable::new(Slip, 0.009, 3.0)).with_a_slope(1e-3);
+    assert!(slip_rate_of(&m, 0.6 - 0.011 * 0.011 / 2e-3 - 1e-6, 0.0).is_none());
+    assert!(m.validate().is_ok());
+    assert!(m.clone().with_eta(0.1).validate().is_err());
+    assert!(m.with_form(FrictionForm::Regularized).validate().is_err());
 }
 
 #[test]
 fn steady_state_has_zero_rates_when_loaded_at_that_velocity() {
-    for m in models().iter().take(5) {
+    for m in models().iter().take(5).chain(&models()[7..]) {
         let y = SpringSlider::steady_state(m, 2.5).unwrap();
         let sys = SpringSlider::new(m, 2.5);
         let mut f = vec![0.0; y.len()];

@@ -140,6 +140,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 dc: vec![f(state_offset(0) + 1)],
                 k: f(2),
                 g: f(3),
+                a_slope: f(4),
                 laws: vec![],
                 law_params: BTreeMap::new(),
                 mu0_offsets: vec![],
@@ -159,6 +160,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 full[1] = r1.a;
                 full[2] = r1.k;
                 full[3] = r1.g;
+                full[4] = r1.a_slope;
                 full[state_offset(0)] = r1.b[0];
                 full[state_offset(0) + 1] = r1.dc[0];
                 for i in 1..opts.laws.len() {
@@ -365,6 +367,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
         dc: (0..map.n_states).map(|i| full[state_offset(i) + 1]).collect(),
         k: full[2],
         g: full[3],
+        a_slope: full[4],
         laws: opts.laws.iter().map(|l| l.name()).collect(),
         law_params: map.law_parameter_values(opts, &full),
         mu0_offsets: full[np..].to_vec(),

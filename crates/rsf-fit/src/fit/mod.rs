@@ -1,6 +1,6 @@
 //! Fitting a rate-and-state model to a measured record.
 //!
-//! Parameters live in the layout of [`rsf_core::n_params`] (`mu0, a, k, g, b_i, dc_i, q_i, alpha_i`) plus,
+//! Parameters live in the layout of [`rsf_core::n_params`] (`mu0, a, k, g, a_slope, b_i, dc_i, q_i, alpha_i`) plus,
 //! optionally, one friction offset per segment after the first (`mu0` per segment). Positive
 //! quantities (a, k, Dc, Vc) are fitted as logarithms, so they cannot leave their domain; `b`,
 //! `mu0`, offsets and Nagata's `c` are fitted directly. Linear constraints `X=c`, `X-Y=c` and
@@ -35,6 +35,6 @@ pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
     NormalStressMode, SearchPrecision, Uncertainty, Weighting,
 };
-pub use params::{Constraint, ParamMap, ParamName, parameter_map};
+pub use params::{Constraint, DIRECT_SLOPE_FLOOR, ParamMap, ParamName, parameter_map};
 pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};
 pub use result::{Curve, Estimate, FitResult, NoiseSummary, Params, SegmentRow};

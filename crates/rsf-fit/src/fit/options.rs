@@ -92,6 +92,15 @@ pub struct FitOptions {
     pub fit_stiffness: bool,
     /// Fit a slip trend g (friction per µm of slip) as well.
     pub fit_slip_trend: bool,
+    /// Fit the rate dependence a₁ of the direct effect (`a_slope`: ∂f/∂ln V = a + a₁ ln(V/V0))
+    /// as well; it starts at 0 unless given in `initial`.
+    pub fit_a_slope: bool,
+    /// The slip rates (µm/s, low and high) over which the direct effect's local slope
+    /// a + a₁ ln(V/V0) must stay at least [`DIRECT_SLOPE_FLOOR`](super::DIRECT_SLOPE_FLOOR) of a:
+    /// a trial beyond is rejected before it is solved. `None`: no such check (a slope that
+    /// nears zero on the model's path makes the solve stiff to a crawl, and past zero the
+    /// model has no slip rate).
+    pub a_slope_range: Option<(f64, f64)>,
     /// Constraints, e.g. `a-b=-0.003`, `dc=10`.
     pub fix: Vec<super::Constraint>,
     /// A friction offset per segment.
@@ -241,6 +250,8 @@ impl FitOptions {
             stiffness: k,
             fit_stiffness: false,
             fit_slip_trend: false,
+            fit_a_slope: false,
+            a_slope_range: None,
             fix: vec![],
             mu0_per_segment: false,
             window_um: None,

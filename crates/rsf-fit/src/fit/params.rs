@@ -5,6 +5,12 @@ use super::AlphaFit;
 use super::{FitError, FitOptions, Prepared, initial_guess};
 use rsf_core::{Model, N_GLOBAL, PER_STATE, StateVariable, n_params, param_index, state_offset};
 
+/// The least share of a that the direct effect's local slope a + a₁ ln(V/V0) may fall to over
+/// [`FitOptions::a_slope_range`]: a quadratic direct effect is a local description of a's
+/// change with rate, and one that halves a within the slip rates of a record is already far
+/// beyond the ±35 % lab measurements report; past it the solve slows as the slope nears zero.
+pub const DIRECT_SLOPE_FLOOR: f64 = 0.5;
+
 /// Starting value of a fitted Linker–Dieterich α: inside (0, 5), mid-range of published
 /// values (0.1–0.6).
 pub const ALPHA_START: f64 = 0.2;
@@ -21,6 +27,8 @@ pub enum ParamName {
     K,
     /// Slip trend g.
     G,
+    /// Rate dependence a₁ of the direct effect (`a_slope`): ∂f/∂ln V = a + a₁ ln(V/V0).
+    ASlope,
     /// b of state i (1-based).
     B(usize),
     /// Dc of state i (1-based).
@@ -42,6 +50,7 @@ impl ParamName {
             "a" => return Some(Self::A),
             "k" => return Some(Self::K),
             "g" => return Some(Self::G),
+            "a_slope" => return Some(Self::ASlope),
             _ => {}
         }
         if let Some(s) = name.strip_prefix("mu0_seg") {
@@ -65,6 +74,7 @@ impl ParamName {
             Self::A => "a".into(),
             Self::K => "k".into(),
             Self::G => "g".into(),
+            Self::ASlope => "a_slope".into(),
             Self::B(i) => format!("b{i}"),
             Self::Dc(i) => format!("dc{i}"),
             Self::Alpha(i) => format!("alpha{i}"),
@@ -118,6 +128,9 @@ impl ParamName {
             Self::A => (true, 1e-7, 1.0),
             Self::K => (true, 1e-9, 1e4),
             Self::G => (false, -1e-2, 1e-2),
+            // a₁: the local direct effect a + a₁ ln(V/V0) changes by a₁ per e-fold of V; beyond
+            // ±0.05 it would change sign within a decade for any lab a (0.001–0.03)
+            Self::ASlope => (false, -5e-2, 5e-2),
             Self::B(_) => (false, -1.0, 1.0),
             // Dc: 0.01 µm to 10 m; below, a lab spring-slider is a stiff problem that no
             // record of 1–1000 Hz can resolve
@@ -230,10 +243,12 @@ pub struct ParamMap {
     pub(super) constraints: Vec<String>,
     /// Scale and range of each full-vector entry.
     pub(super) specs: Vec<ParamSpec>,
+    /// The largest |ln(V/V0)| of [`FitOptions::a_slope_range`], when a₁ is fitted there.
+    pub(super) a_slope_reach: Option<f64>,
 }
 
 fn full_names(opts: &FitOptions, n_off: usize) -> Vec<String> {
-    let mut v = vec!["mu0".to_string(), "a".into(), "k".into(), "g".into()];
+    let mut v = vec!["mu0".to_string(), "a".into(), "k".into(), "g".into(), "a_slope".into()];
     for (i, l) in opts.laws.iter().enumerate() {
         let q = l.parameters().first().map(|p| p.0).unwrap_or("q");
         v.extend([format!("b{}", i + 1), format!("dc{}", i + 1), format!("{q}{}", i + 1), format!("alpha{}", i + 1)]);
@@ -415,6 +430,9 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
     if opts.fit_slip_trend {
         free_idx.push(3);
     }
+    if opts.fit_a_slope {
+        free_idx.push(4);
+    }
     for (i, law) in opts.laws.iter().enumerate() {
         let off = state_offset(i);
         free_idx.extend([off, off + 1]);
@@ -496,7 +514,12 @@ pub fn parameter_map(p: &Prepared, opts: &FitOptions) -> Result<ParamMap, FitErr
         slots[i] = Slot::Free { k, log };
     }
     // derived values follow their sources at the start
-    let map = ParamMap { n_states: n, np, names, slots, base, free: free_idx, constraints, specs };
+    let a_slope_reach = opts
+        .a_slope_range
+        .filter(|_| opts.fit_a_slope)
+        .map(|(lo, hi)| (lo / p.v_init).ln().abs().max((hi / p.v_init).ln().abs()))
+        .filter(|r| r.is_finite());
+    let map = ParamMap { n_states: n, np, names, slots, base, free: free_idx, constraints, specs, a_slope_reach };
     let theta = map.theta_of(&map.base);
     let base = map.full(&theta);
     Ok(ParamMap { base, ..map })
@@ -510,6 +533,16 @@ pub(super) fn within_bounds(map: &ParamMap, full: &[f64]) -> Result<(), String> 
         let ParamSpec { lo, hi, .. } = map.specs[i];
         if !(v >= lo && v <= hi) {
             return Err(format!("`{}` = {v:e} is outside its physical range [{lo:e}, {hi:e}]", map.names[i]));
+        }
+    }
+    if let Some(reach) = map.a_slope_reach {
+        let (a, a1) = (full[1], full[4]);
+        if a1.abs() * reach > (1.0 - DIRECT_SLOPE_FLOOR) * a {
+            return Err(format!(
+                "`a_slope` = {a1:e} takes the direct effect's slope below {DIRECT_SLOPE_FLOOR} a = {:e} within the \
+                 slip rates given (|ln(V/V0)| up to {reach:.2})",
+                DIRECT_SLOPE_FLOOR * a
+            ));
         }
     }
     Ok(())

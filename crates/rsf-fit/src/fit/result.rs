@@ -54,6 +54,10 @@ pub struct Params {
     pub k: f64,
     /// Slip trend g, friction per µm of slip (0 unless fitted or fixed).
     pub g: f64,
+    /// Rate dependence a₁ of the direct effect, ∂f/∂ln V = a + a₁ ln(V/V0) (0 unless fitted
+    /// or fixed).
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub a_slope: f64,
     /// Laws, per state.
     pub laws: Vec<String>,
     /// Law-specific parameters by name (e.g. `vc1`).
@@ -74,8 +78,13 @@ impl Params {
     /// These parameters as `FitOptions::initial` starting values (`mu0`, `a`, `k`, `g`, `b1`,
     /// `dc1`, …, law parameters such as `vc1`): to restart a related fit from an optimum.
     pub fn as_initial(&self) -> Vec<(ParamName, f64)> {
-        let mut v =
-            vec![(ParamName::Mu0, self.mu0), (ParamName::A, self.a), (ParamName::K, self.k), (ParamName::G, self.g)];
+        let mut v = vec![
+            (ParamName::Mu0, self.mu0),
+            (ParamName::A, self.a),
+            (ParamName::K, self.k),
+            (ParamName::G, self.g),
+            (ParamName::ASlope, self.a_slope),
+        ];
         for (i, (b, dc)) in self.b.iter().zip(&self.dc).enumerate() {
             v.push((ParamName::B(i + 1), *b));
             v.push((ParamName::Dc(i + 1), *dc));
@@ -219,4 +228,9 @@ pub struct Curve {
     pub segment: Vec<usize>,
     /// Model slip rate V at each sample, µm/s (empty if the extra forward solve failed).
     pub slip_rate: Vec<f64>,
+}
+
+/// Whether a parameter that is 0 unless asked for was left out (serde's `skip_serializing_if`).
+fn is_zero_f64(x: &f64) -> bool {
+    *x == 0.0
 }

@@ -505,11 +505,12 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         window_um: Optional[float] = None, mu0_per_segment: bool = False, weights: str = "equal",
         per_segment: bool = False, threads: int = 0, time=None, load_point=None, mu=None,
         normal_stress=None, max_iter: int = 100, accept_implausible: bool = False,
-        uncertainty: str = "noise-model") -> FitResult:
+        uncertainty: str = "noise-model", fit_a_slope: bool = False) -> FitResult:
     """Fits a rate-and-state model to a record — the dict of :func:`read_record`, or the arrays
     ``time`` (s), ``load_point`` (µm), ``mu`` and optionally ``normal_stress`` (MPa) — as
     ``rsf fit`` does with the same options: ``stiffness`` (1/µm), ``law`` or ``laws`` (one per
     state; a registered name or a Python function, which is registered under its ``__name__``), ``loading`` (``"protocol"`` or ``"record"``), ``fit_stiffness``, ``fit_slip_trend``,
+    ``fit_a_slope`` (a rate-dependent direct effect, ∂f/∂ln V = a + a_slope·ln(V/V0)),
     ``fit_alpha`` (None, ``"shared"``, ``"per-state"``), ``fix`` (e.g. ``["a-b=-0.003"]``),
     ``initial`` (name → value), ``window_um``, ``mu0_per_segment``, ``weights`` (``"equal"`` or
     ``"uniform"``), ``per_segment`` (refit each step and hold alone: ``per_segment`` in the
@@ -536,7 +537,8 @@ def fit(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, law: Un
         fit_slip_trend=fit_slip_trend, fix=list(fix), initial=list((initial or {}).items()), rtol=rtol,
         starts=starts, mcmc=mcmc, chains=chains, seed=seed, progress=progress, window_um=window_um,
         mu0_per_segment=mu0_per_segment, weights=weights, per_segment=per_segment, threads=threads,
-        max_iter=max_iter, accept_implausible=accept_implausible, uncertainty=uncertainty)
+        max_iter=max_iter, accept_implausible=accept_implausible, uncertainty=uncertainty,
+        fit_a_slope=fit_a_slope)
     _warn_accepted(accept_implausible, t, x, m, "rsf.fit")
     result = FitResult(json.loads(raw), samples, names, curve)
     if not result.get("converged", True):

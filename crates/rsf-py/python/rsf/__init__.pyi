@@ -157,6 +157,7 @@ def fit(
     max_iter: int = ...,
     accept_implausible: bool = ...,
     uncertainty: str = ...,
+    fit_a_slope: bool = ...,
 ) -> FitResult: ...
 def diagnose(
     record: Optional[Mapping[str, Any]] = ...,
