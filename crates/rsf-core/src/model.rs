@@ -225,6 +225,24 @@ impl Model {
         self.form.friction(self.mu0, self.a, self.v0, v.ln(), self.psi_from_ln_theta(&z)) + 0.5 * self.a_slope * x * x
     }
 
+    /// The slip rate V (µm/s) at which friction (without damping) equals `mu` for the state
+    /// contribution `psi`: the form's inverse, or with a rate-dependent direct effect the root
+    /// of `(a₁/2) X² + a X = r`, `X = ln(V/V0)`, `r = mu − μ0 − Ψ`, on the branch where the local
+    /// slope a + a₁X = sqrt(a² + 2a₁r) is positive (written without cancellation); `None` where
+    /// no positive V exists.
+    pub fn slip_rate(&self, mu: f64, psi: f64) -> Option<f64> {
+        if self.a_slope == 0.0 {
+            return self.form.slip_rate(self.mu0, self.a, self.v0, mu, psi);
+        }
+        let r = mu - self.mu0 - psi;
+        let disc = self.a * self.a + 2.0 * self.a_slope * r;
+        if !(disc >= 0.0) {
+            return None;
+        }
+        let x = 2.0 * r / (self.a + disc.sqrt());
+        Some(self.v0 * x.exp())
+    }
+
     /// The local slope of the direct effect, ∂f/∂ln V = a + a₁ ln(V/V0), at `x = ln V`
     /// (classic form).
     #[inline]

@@ -481,7 +481,7 @@ impl<'a> SpringSlider<'a> {
         }
         y[0] = if m.eta == 0.0 {
             // the friction law inverted in closed form
-            match slip_rate_of(m, target, psi) {
+            match m.slip_rate(target, psi) {
                 Some(v) if v > 0.0 && v.is_finite() => v.ln(),
                 _ => return Err(fail("the friction law has no positive root".into())),
             }
@@ -492,22 +492,4 @@ impl<'a> SpringSlider<'a> {
         };
         Ok(())
     }
-}
-
-/// The slip rate V (µm/s) at which `m`'s friction (without damping) equals `mu` for the state
-/// contribution `psi`: the form's inverse, or with a rate-dependent direct effect the root of
-/// `(a₁/2) X² + a X = r`, `X = ln(V/V0)`, `r = mu − μ0 − Ψ`, on the branch where the local slope
-/// a + a₁X = sqrt(a² + 2a₁r) is positive (written without cancellation); `None` where no
-/// positive V exists.
-pub(crate) fn slip_rate_of(m: &Model, mu: f64, psi: f64) -> Option<f64> {
-    if m.a_slope == 0.0 {
-        return m.form.slip_rate(m.mu0, m.a, m.v0, mu, psi);
-    }
-    let r = mu - m.mu0 - psi;
-    let disc = m.a * m.a + 2.0 * m.a_slope * r;
-    if !(disc >= 0.0) {
-        return None;
-    }
-    let x = 2.0 * r / (m.a + disc.sqrt());
-    Some(m.v0 * x.exp())
 }

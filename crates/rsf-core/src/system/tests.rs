@@ -291,13 +291,13 @@ fn rate_dependent_direct_effect_inverts() {
         for x in [-5.0f64, -1.0, 0.0, 0.5, 5.0] {
             let psi = 0.013;
             let mu = m.form.friction(m.mu0, m.a, m.v0, x, psi) + 0.5 * a_slope * x * x;
-            let v = slip_rate_of(&m, mu, psi).unwrap();
+            let v = m.slip_rate(mu, psi).unwrap();
             assert!((v.ln() - x).abs() < 1e-12, "a_slope {a_slope}, x {x}: {}", v.ln());
         }
     }
     // a₁ > 0: friction has its minimum μ0 + Ψ − a²/(2a₁) at ln(V/V0) = −a/a₁
     let m = Model::new(0.6, 1.0, 0.011, 0.01).with_state(StateVariable::new(Slip, 0.009, 3.0)).with_a_slope(1e-3);
-    assert!(slip_rate_of(&m, 0.6 - 0.011 * 0.011 / 2e-3 - 1e-6, 0.0).is_none());
+    assert!(m.slip_rate(0.6 - 0.011 * 0.011 / 2e-3 - 1e-6, 0.0).is_none());
     assert!(m.validate().is_ok());
     assert!(m.clone().with_eta(0.1).validate().is_err());
     assert!(m.with_form(FrictionForm::Regularized).validate().is_err());

@@ -12,7 +12,8 @@
 //! | `options.rs` | [`FitOptions`], loading and weighting modes, the work budget, errors |
 //! | `bins.rs` | large records fitted on bin means with the same information |
 //! | `prepare.rs` | samples and weights of a record ([`prepare`]), data-derived starting values |
-//! | `params.rs` | the parameter map: names, layout, log transforms, constraints, physical bounds |
+//! | `param_name.rs` | [`ParamName`], parsed once at the edge, and each name's scale and physical range |
+//! | `params.rs` | the parameter map: layout, log transforms, constraints, physical bounds |
 //! | `forward.rs` | the forward model and its sensitivities at the used samples |
 //! | `lsq.rs` | starting points and Levenberg–Marquardt under the work budget: [`fit`] |
 //! | `covariance.rs` | covariance, standard errors and 95% intervals at the optimum |
@@ -23,6 +24,7 @@ mod covariance;
 mod forward;
 mod lsq;
 mod options;
+mod param_name;
 mod params;
 mod prepare;
 mod result;
@@ -35,6 +37,7 @@ pub use options::{
     AlphaFit, Budget, BudgetHit, FIT_MAX_STEPS, FitError, FitOptions, LoadingMode, NORMAL_STRESS_VARIES,
     NormalStressMode, SearchPrecision, Uncertainty, Weighting,
 };
-pub use params::{Constraint, DIRECT_SLOPE_FLOOR, ParamMap, ParamName, parameter_map};
+pub use param_name::ParamName;
+pub use params::{Constraint, DIRECT_SLOPE_FLOOR, ParamMap, parameter_map};
 pub use prepare::{NORMAL_STRESS_TOLERANCE, Prepared, driving_normal_stress, initial_guess, prepare};
 pub use result::{Curve, Estimate, FitResult, NoiseSummary, Params, SegmentRow};
