@@ -74,8 +74,7 @@ fn params_of(f: &FitResult) -> Vec<Param> {
     f.params
         .as_initial()
         .into_iter()
-        .filter(|(n, _)| *n != ParamName::G || f.stderr.contains_key("g") || f.params.g != 0.0)
-        .filter(|(n, _)| *n != ParamName::ASlope || f.stderr.contains_key("a_slope") || f.params.a_slope != 0.0)
+        .filter(|(n, _)| f.reports(n))
         .filter(|(n, _)| !matches!(n, ParamName::Mu0Seg(_)))
         .map(|(n, value)| {
             let name = n.text();

@@ -3,7 +3,7 @@
 use crate::args::{DiagnoseArgs, DiagnosisArgs, FitArgs};
 use anyhow::{Context, Result, bail};
 use rsf_diagnose::{EventFit, event_windows, per_event_fits};
-use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, fit, prepare};
+use rsf_fit::fit::{FitOptions, FitResult, LoadingMode, ParamName, fit, prepare};
 use rsf_fit::segment::{SegmentOptions, detect};
 use serde::Serialize;
 use std::time::Instant;
@@ -205,11 +205,10 @@ fn summary(r: &FitResult, mcmc: Option<&rsf_fit::mcmc::McmcResult>, per: &[Event
         row(k, *v);
     }
     row("k", p.k);
-    if p.g != 0.0 || r.stderr.contains_key("g") {
-        row("g", p.g);
-    }
-    if p.a_slope != 0.0 || r.stderr.contains_key("a_slope") {
-        row("a_slope", p.a_slope);
+    for (name, x) in [(ParamName::G, p.g), (ParamName::ASlope, p.a_slope)] {
+        if r.reports(&name) {
+            row(&name.text(), x);
+        }
     }
     for (i, al) in p.alpha.iter().enumerate() {
         row(&format!("alpha{}", i + 1), *al);

@@ -138,11 +138,10 @@ pub fn param_rows(f: &FitResult) -> Vec<(String, String, bool)> {
     }
     v.extend(p.law_params.iter().map(|(k, x)| (k.clone(), *x)));
     v.push(("k".into(), p.k));
-    if p.g != 0.0 || f.stderr.contains_key("g") {
-        v.push(("g".into(), p.g));
-    }
-    if p.a_slope != 0.0 || f.stderr.contains_key("a_slope") {
-        v.push(("a_slope".into(), p.a_slope));
+    for (name, x) in [(ParamName::G, p.g), (ParamName::ASlope, p.a_slope)] {
+        if f.reports(&name) {
+            v.push((name.text(), x));
+        }
     }
     v.into_iter()
         .map(|(k, x)| {

@@ -197,6 +197,25 @@ pub struct FitResult {
 }
 
 impl FitResult {
+    /// Whether an optional global parameter — the slip trend `g` or the direct effect's rate
+    /// dependence `a_slope`, 0 unless asked for — belongs in a summary of this fit: it was
+    /// fitted (it has a standard error) or set to a value other than 0. Other names: always.
+    pub fn reports(&self, name: &ParamName) -> bool {
+        let (key, value) = match name {
+            ParamName::G => ("g", self.params.g),
+            ParamName::ASlope => ("a_slope", self.params.a_slope),
+            ParamName::Mu0
+            | ParamName::A
+            | ParamName::K
+            | ParamName::B(_)
+            | ParamName::Dc(_)
+            | ParamName::Alpha(_)
+            | ParamName::Law(..)
+            | ParamName::Mu0Seg(_) => return true,
+        };
+        value != 0.0 || self.stderr.contains_key(key)
+    }
+
     /// Why the fit is not at an optimum, in words (`None` when it converged).
     pub fn convergence_text(&self) -> Option<String> {
         if self.converged {
