@@ -347,6 +347,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         segs.len()
     );
     let (bar, progress) = progress_bar("diagnose {bar:30} {pos}/{len} fits, {elapsed} {msg}");
+    let level = opts.false_alarm_level;
     let d = rsf_diagnose::diagnose(&rec, &segs, &rsf_diagnose::DiagnoseOptions { progress: Some(progress), ..opts })?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
@@ -361,6 +362,12 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         out += &format!("undecided: {a} (ΔBIC {da:.1}) or {b} (ΔBIC {db:.1}); the fit shown is {a}'s\n");
     } else if let Some(p) = d.partial {
         out += &format!("best partial extension: {p}\n");
+    }
+    if let (Some(l), Some((r, _))) = (&d.lead, &d.runner_up) {
+        out += &format!(
+            "lead over {r}: {:.1} in ln L, {:.2} times the spread the noise alone gives it (chance {:.3}; holds below {})\n",
+            l.lead, l.z, l.p, level
+        );
     }
     let l = &d.adequacy.levels;
     let c = &d.adequacy.coherence;

@@ -138,6 +138,8 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
             r["secondary"] = json!(d.secondary.as_ref().map(|s| s.cause.as_str()));
             // `undecided`: the two causes the record does not tell apart
             r["undecided"] = json!(d.undecided.iter().map(|u| u.0.as_str()).collect::<Vec<_>>());
+            // the lead of the cause chosen over its best credible rival, against its chance spread
+            r["lead"] = json!(d.lead);
             r["unfitted_causes"] = json!(d.unfitted_causes.iter().map(|c| c.as_str()).collect::<Vec<_>>());
             r["effect"] = json!(d.effect);
             r["confidence"] = json!(d.confidence);

@@ -140,7 +140,7 @@ pub struct Noisy {
 }
 
 /// The residuals of `f` and their sample times.
-fn residuals(f: &FitResult) -> (Vec<f64>, &[f64]) {
+pub(super) fn residuals(f: &FitResult) -> (Vec<f64>, &[f64]) {
     let c = &f.curve;
     let res: Vec<f64> = c.data.iter().zip(&c.model).map(|(d, m)| d - m).collect();
     (res, &c.time)

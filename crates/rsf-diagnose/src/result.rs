@@ -236,10 +236,17 @@ pub struct Diagnosis {
     /// Runner-up cause and its ΔBIC_eff.
     pub runner_up: Option<(Cause, f64)>,
     /// For `undecided`: the two causes the record does not tell apart (both decisive and
-    /// credible, within [`super::UNDECIDED_DBIC`]), the better-scoring first, with their ΔBIC.
+    /// credible, within [`super::UNDECIDED_DBIC`], or, the model chosen untestable, with a lead that
+    /// does not hold by [`Diagnosis::lead`]), the better-scoring first, with their ΔBIC.
     /// Empty otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub undecided: Vec<(Cause, f64)>,
+    /// The lead of the cause chosen over the best other credible, decisive candidate against
+    /// its chance spread (`lead.rs`), when there is one: where the model chosen could not be tested
+    /// against the noise, a lead that does not hold at the false-alarm level leaves the verdict
+    /// `undecided` between the two.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lead: Option<super::Lead>,
     /// The candidate causes none of whose ways could be fitted from any start: not among
     /// `candidates`, named so that their absence is seen (a cause some of whose ways failed
     /// lists them in its [`Candidate::unfitted_ways`]). Empty when every cause was fitted.

@@ -340,22 +340,40 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     let adequacy = adequacy.with_form(form);
     lap("adequacy and form test");
     judge_adequacy(&mut v, &adequacy, chosen, &decisive, &candidates);
-    // two causes the record cannot tell apart: another credible, decisive candidate within
-    // UNDECIDED_DBIC of the one chosen. Nearer than that, the record prefers neither, so the
-    // verdict names neither (`undecided`, both with their scores; the fit, gain and effect
-    // given are the better one's). Not when a combination is named (it beat the cause alone)
-    // or the model chosen misfits (`unexplained` says more).
-    let undecided: Vec<(Cause, f64)> = match chosen {
-        Some(c1) if secondary.is_none() && v.cause == c1.cause => candidates
-            .iter()
-            .find(|c| {
-                c.cause != c1.cause
-                    && c.delta_bic < DECISIVE
-                    && c.delta_bic - c1.delta_bic < super::UNDECIDED_DBIC
-                    && ineligible(c, level).is_none()
-            })
-            .map(|c2| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)])
-            .unwrap_or_default(),
+    // two causes the record cannot tell apart: the best other credible, decisive candidate
+    // within UNDECIDED_DBIC of the one chosen, or, where the model chosen could not be tested
+    // against the noise, further but with a lead within its chance spread (`lead.rs`: another
+    // draw of the noise could reverse it). Then the record
+    // prefers neither, so the verdict names neither (`undecided`, both with their scores; the
+    // fit, gain and effect given are the better one's). Not when a combination is named (it
+    // beat the cause alone) or the model chosen misfits (`unexplained` says more).
+    let rival = match chosen {
+        Some(c1) if secondary.is_none() && v.cause == c1.cause => {
+            candidates.iter().find(|c| c.cause != c1.cause && c.delta_bic < DECISIVE && ineligible(c, level).is_none())
+        }
+        _ => None,
+    };
+    let lead = match (chosen.and_then(|c| c.fit.as_ref()), rival.and_then(|c| c.fit.as_ref())) {
+        (Some(f1), Some(f2)) if f1.curve.time == f2.curve.time => {
+            let ((r1, times), (r2, _)) = (super::evidence::residuals(f1), super::evidence::residuals(f2));
+            let side = |r, f: &rsf_fit::fit::FitResult| super::lead::Side { residuals: r, n_free: f.n_free };
+            super::lead::lead(side(&r1, f1), side(&r2, f2), times, ctx.base.n, &named_noise)
+        }
+        _ => None,
+    };
+    // the lead decides only where no test could confirm that the model chosen explains the
+    // record (`lead.rs`): there, that neither model is the truth is the live possibility
+    let lead_decides = match adequacy.verdict {
+        AdequacyVerdict::Untestable => true,
+        AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => false,
+    };
+    let undecided: Vec<(Cause, f64)> = match (chosen, rival) {
+        (Some(c1), Some(c2))
+            if c2.delta_bic - c1.delta_bic < super::UNDECIDED_DBIC
+                || (lead_decides && lead.is_some_and(|l| !l.holds(level))) =>
+        {
+            vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]
+        }
         _ => vec![],
     };
     if let [(a, da), (b, db)] = undecided[..] {
@@ -363,9 +381,16 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         v.partial = Some(a);
         v.reason = format!(
             "undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): both explain the record better than the \
-             baseline, within {} of each other, so the record does not tell which it needs{}; rsf design plans \
-             the experiment that does (before: {})",
-            super::UNDECIDED_DBIC,
+             baseline, {}, so the record does not tell which it needs{}; rsf design plans the experiment that \
+             does (before: {})",
+            match lead {
+                Some(l) if db - da >= super::UNDECIDED_DBIC => format!(
+                    "and, with nothing to test {a}'s model against the noise, its lead is within what the noise \
+                     makes between two such models ({:.1} in ln L, {:.2} times its chance spread, chance {:.2})",
+                    l.lead, l.z, l.p
+                ),
+                _ => format!("within {} of each other", super::UNDECIDED_DBIC),
+            },
             pair_words(a, b),
             v.reason
         );
@@ -401,6 +426,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         disagreement,
         runner_up,
         undecided,
+        lead,
         unfitted_causes,
         noise_drift,
         secondary,

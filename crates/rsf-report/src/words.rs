@@ -348,17 +348,31 @@ pub fn verdict(d: &Diagnosis) -> String {
         return esc(&s);
     }
     if let (Cause::Undecided, [(a, da), (b, db)]) = (d.cause, &d.undecided[..]) {
+        // within the fixed margin, or further with a lead the noise could reverse (`lead.rs`)
+        let apart = match d.lead {
+            Some(l) if db - da >= rsf_diagnose::UNDECIDED_DBIC => format!(
+                "apart by more than the margin of {} but, with no event to test the better one's model against the \
+                 noise, with predictions so alike that its lead, {} in ln L, is {} times the spread the noise alone \
+                 gives it (chance {}): another draw of the noise could reverse it",
+                fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
+                fmt_num(l.lead, 3),
+                fmt_num(l.z, 2),
+                fmt_num(l.p, 2)
+            ),
+            _ => format!(
+                "within {} of each other, where a difference of {} would be decisive",
+                fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
+                fmt_num(-DECISIVE, 2)
+            ),
+        };
         let s = format!(
             "The record needs more than the {baseline}, but it does not tell which of two extensions: {} \
-             (ΔBIC = {}) or {} (ΔBIC = {}), within {} of each other, where a difference of {} would be decisive. \
-             No cause is named; the fit shown is the better one's, {}. rsf design plans the experiment that \
-             tells them apart.",
+             (ΔBIC = {}) or {} (ΔBIC = {}), {apart}. No cause is named; the fit shown is the better one's, {}. \
+             rsf design plans the experiment that tells them apart.",
             cause_words(*a),
             fmt_num(*da, 3),
             cause_words(*b),
             fmt_num(*db, 3),
-            fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
-            fmt_num(-DECISIVE, 2),
             need(d)
         );
         return esc(&s);

@@ -145,19 +145,24 @@ fn with_nothing_hidden_the_verdict_says_the_baseline_stands() {
     assert!(!html.contains("<h2>Effect</h2>"), "no effect table without an effect");
 }
 
+/// The diagnosis of `tests/data/{rel}` with a Slip baseline at stiffness `k` and protocol
+/// loading, as `rsf diagnose` has it.
+fn diagnosed_record(rel: &str, k: f64) -> rsf_diagnose::Diagnosis {
+    use rsf_fit::data::{ReadOptions, read_record};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data").join(rel);
+    let rec = read_record(&path, &ReadOptions::default()).unwrap();
+    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
+    let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], k);
+    fit.loading = LoadingMode::Protocol;
+    diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap()
+}
+
 /// `undecided` (a small second state the record cannot tell from a slip trend,
 /// tests/data/detection/second_state_or_trend.csv): the verdict names neither, gives both with
 /// their scores, and says what decides; both rows are shaded in the candidates' table.
 #[test]
 fn an_undecided_verdict_names_both_and_neither() {
-    use rsf_fit::data::{ReadOptions, read_record};
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/second_state_or_trend.csv");
-    let rec = read_record(&path, &ReadOptions::default()).unwrap();
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    let mut fit = FitOptions::new(vec![law_by_name("slip", |_| None).unwrap()], 0.03275739878830749);
-    fit.loading = LoadingMode::Protocol;
-    let d = diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
+    let d = diagnosed_record("detection/second_state_or_trend.csv", 0.03275739878830749);
     assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
     let html = diagnosis_html(&d, "undecided");
     let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
@@ -178,4 +183,22 @@ fn long_floats_are_caught() {
     assert_eq!(long_floats("g = 2.833121483939129e-6, k = 0.0073").len(), 1);
     assert!(long_floats("0.00965 ± 0.00012, 1.23456789").is_empty());
     assert_eq!(visible("<p>a<b>b</b></p><svg><text>x</text></svg>").split_whitespace().collect::<String>(), "ab");
+}
+
+/// `undecided` by the lead's chance spread (a power-law-aging truth that a cut-off and an
+/// Aging–Slip law both bend towards, 27 apart in ΔBIC, tests/data/outside/power_aging_or_cutoff.csv):
+/// the verdict says the gap is beyond the fixed margin and why it still decides nothing.
+#[test]
+fn a_lead_the_noise_could_reverse_is_said_so() {
+    let d = diagnosed_record("outside/power_aging_or_cutoff.csv", 0.03530547554472882);
+    assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
+    let html = diagnosis_html(&d, "undecided by its lead");
+    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
+    let verdict = visible(&body[..body.find("</p>").unwrap()]);
+    println!("{verdict}");
+    for words in ["does not tell which of two extensions", "more than the margin", "another draw of the noise"] {
+        assert!(verdict.contains(words), "{words}: {verdict}");
+    }
+    assert!(!verdict.contains("within 10 of each other"), "{verdict}");
+    assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
 }

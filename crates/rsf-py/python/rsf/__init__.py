@@ -558,7 +558,9 @@ def diagnose(record: Optional[Mapping[str, Any]] = None, *, stiffness: float, ba
     ``candidates``, ``evidence``, ``reconstruction``, ``per_segment``, ``adequacy``, ``partial``,
     …; ``write_report``). ``cause`` is ``"unexplained"`` when no model on the menu explains the
     record's events to its noise level, and ``"undecided"`` when two extensions explain it within
-    ΔBIC 10 of each other (``undecided`` lists both, ``partial`` is the better one).
+    ΔBIC 10 of each other, or, the better one's model untestable, with a lead the noise could
+    reverse (``lead``: the lead in ln L, its chance spread ``sd``, ``z``, ``p``) (``undecided``
+    lists both, ``partial`` is the better one).
     ``stiffness_uncertainty`` is the nominal stiffness's relative uncertainty (one standard
     deviation), as ``--stiffness-uncertainty``.
     The result depends on the record, the options and ``seed`` only (not on ``threads``).
