@@ -112,6 +112,10 @@ pub struct Row {
     /// rival's law read at θ_ref(θ/θ_ref)^p) against it; below −10 its law is not the
     /// record's (`diagnose/form.rs`).
     pub form_delta_bic: Option<f64>,
+    /// The lead of the cause chosen over its best credible, decisive rival in spreads of their
+    /// log-likelihood ratio under the noise (`diagnose/lead.rs`); below 2.58 it decides nothing
+    /// where the model chosen is untestable (`undecided`). Empty with no such rival.
+    pub lead_z: Option<f64>,
     /// The manifest's `meta_…` cells.
     pub meta: Vec<(String, String)>,
 }
@@ -145,6 +149,7 @@ impl Row {
             drift_rms: None,
             quiet_wander: None,
             form_delta_bic: None,
+            lead_z: None,
             meta: vec![],
         }
     }
@@ -165,7 +170,7 @@ const HEAD: [(&str, CellKind); 11] = [
     ("rms", CellKind::Number),
 ];
 /// The fixed columns after the parameters, and their kinds.
-const TAIL: [(&str, CellKind); 13] = [
+const TAIL: [(&str, CellKind); 14] = [
     ("cause", CellKind::Text),
     ("delta_bic", CellKind::Number),
     ("rms_ratio", CellKind::Number),
@@ -179,6 +184,7 @@ const TAIL: [(&str, CellKind); 13] = [
     ("drift_rms", CellKind::Number),
     ("quiet_wander", CellKind::Number),
     ("form_delta_bic", CellKind::Number),
+    ("lead_z", CellKind::Number),
 ];
 
 /// The order of parameter columns: mu0, a, then b_i and Dc_i state by state, then the laws'
@@ -326,6 +332,7 @@ pub fn summary_table(rows: &[Row]) -> SummaryTable {
             num(r.drift_rms),
             num(r.quiet_wander),
             num(r.form_delta_bic),
+            num(r.lead_z),
         ]);
         for m in &metas {
             cells.push(text(r.meta.iter().find(|(k, _)| k == m).map_or("", |(_, v)| v.as_str())));
@@ -370,7 +377,7 @@ mod tests {
         let t = summary_csv(&[a, b, c]);
         let lines: Vec<&str> = t.lines().collect();
         assert!(lines[0].contains(",rms,a,a_se,dc1,dc1_se,b2,b2_se,k,k_se,cause,"), "{}", lines[0]);
-        assert!(lines[0].ends_with(",drift_rms,quiet_wander,form_delta_bic,meta_sample"));
+        assert!(lines[0].ends_with(",drift_rms,quiet_wander,form_delta_bic,lead_z,meta_sample"));
         assert!(lines[1].contains(",0.01,0.0001,10,1,,,0.01,,"), "{}", lines[1]);
         assert!(lines[3].starts_with("\"c, d.csv\",read_failed,"), "{}", lines[3]);
         assert_eq!(lines.len(), 4);

@@ -190,6 +190,7 @@ fn work(entry: &Entry, defaults: &RecordOptions, job: Job, threads: usize) -> Ou
                 out.row.drift_rms = d.noise_drift.as_ref().map(|n| n.rms);
                 out.row.quiet_wander = Some(d.adequacy.quiet.ratio).filter(|x| x.is_finite());
                 out.row.form_delta_bic = d.adequacy.form.as_ref().map(|f| f.delta_bic);
+                out.row.lead_z = d.lead.map(|l| l.z).filter(|z| z.is_finite());
                 out.diagnosis = Some(d);
             }
             Err(e) => {

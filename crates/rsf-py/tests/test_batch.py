@@ -86,7 +86,7 @@ def test_diagnose_many_on_dask_equals_rsf_batch(lab, client):
     assert (got["events"].iloc[:3] >= 1).all() and (got["events_tested"].iloc[:3] <= got["events"].iloc[:3]).all()
     # the quiet test's ratio: a number where the named model's quiet stretches could be measured
     assert "quiet_wander" in got.columns and (got["quiet_wander"].dropna() > 0).all()
-    assert "form_delta_bic" in got.columns
+    assert "form_delta_bic" in got.columns and "lead_z" in got.columns
     assert list(got["meta_sample"]) == ["BRAVA b819", "S2", "S3", "S4"]
 
 
