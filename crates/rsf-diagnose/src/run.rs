@@ -343,10 +343,10 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     // two causes the record cannot tell apart: the best other credible, decisive candidate
     // within UNDECIDED_DBIC of the one chosen, or, where the model chosen could not be tested
     // against the noise, further but with a lead within its chance spread (`lead.rs`: another
-    // draw of the noise could reverse it). Then the record
-    // prefers neither, so the verdict names neither (`undecided`, both with their scores; the
-    // fit, gain and effect given are the better one's). Not when a combination is named (it
-    // beat the cause alone) or the model chosen misfits (`unexplained` says more).
+    // draw of the noise could reverse it). Then the record prefers neither, so the verdict
+    // names neither (`undecided`, both with their scores; the fit, gain and effect given are
+    // the better one's). Not when a combination is named (it beat the cause alone) or the
+    // model chosen misfits (`unexplained` says more).
     let rival = match chosen {
         Some(c1) if secondary.is_none() && v.cause == c1.cause => {
             candidates.iter().find(|c| c.cause != c1.cause && c.delta_bic < DECISIVE && ineligible(c, level).is_none())
