@@ -145,6 +145,14 @@ fn with_nothing_hidden_the_verdict_says_the_baseline_stands() {
     assert!(!html.contains("<h2>Effect</h2>"), "no effect table without an effect");
 }
 
+/// The visible text of a report's verdict paragraph (printed, for a failing test's log).
+fn verdict_text(html: &str) -> String {
+    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
+    let verdict = visible(&body[..body.find("</p>").unwrap()]);
+    println!("{verdict}");
+    verdict
+}
+
 /// The diagnosis of `tests/data/{rel}` with a Slip baseline at stiffness `k` and protocol
 /// loading, as `rsf diagnose` has it.
 fn diagnosed_record(rel: &str, k: f64) -> rsf_diagnose::Diagnosis {
@@ -165,9 +173,7 @@ fn an_undecided_verdict_names_both_and_neither() {
     let d = diagnosed_record("detection/second_state_or_trend.csv", 0.03275739878830749);
     assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
     let html = diagnosis_html(&d, "undecided");
-    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
-    let verdict = visible(&body[..body.find("</p>").unwrap()]);
-    println!("{verdict}");
+    let verdict = verdict_text(&html);
     for words in
         ["does not tell which of two extensions", "a slip trend", "a second state variable", "No cause is named"]
     {
@@ -193,9 +199,7 @@ fn a_lead_the_noise_could_reverse_is_said_so() {
     let d = diagnosed_record("outside/power_aging_or_cutoff.csv", 0.03530547554472882);
     assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
     let html = diagnosis_html(&d, "undecided by its lead");
-    let body = &html[html.find("<p class=\"verdict").expect("a verdict")..];
-    let verdict = visible(&body[..body.find("</p>").unwrap()]);
-    println!("{verdict}");
+    let verdict = verdict_text(&html);
     for words in ["does not tell which of two extensions", "more than the margin", "another draw of the noise"] {
         assert!(verdict.contains(words), "{words}: {verdict}");
     }
