@@ -208,15 +208,23 @@ pub(super) fn judge_adequacy(
             }
             v.partial = best.map(|b| b.cause);
             v.cause = Cause::Unexplained;
-            match best {
-                Some(b) => format!(
+            // the model judged: the one named, else the baseline (a decisive candidate set aside
+            // is the best partial extension, but the misfit found is the baseline's)
+            match (best, chosen) {
+                (Some(b), Some(_)) => format!(
                     "not explained: the best extension on the menu, {} (ΔBIC {:.1}), helps but {}; the named model's cause lies outside the menu (before: {reason})",
                     b.extension,
                     b.delta_bic,
                     adequacy.words()
                 ),
-                None => format!(
-                    "not explained: no extension on the menu earns its parameters, yet the baseline {}; the cause lies outside the menu (before: {reason})",
+                (Some(b), None) => format!(
+                    "not explained: no extension on the menu is both decisive and credible (the best, {} at ΔBIC {:.1}, was set aside), and the baseline does not explain the record: {}; the cause lies outside the menu (before: {reason})",
+                    b.extension,
+                    b.delta_bic,
+                    adequacy.words()
+                ),
+                (None, _) => format!(
+                    "not explained: no extension on the menu earns its parameters, yet the baseline does not explain the record: {}; the cause lies outside the menu (before: {reason})",
                     adequacy.words()
                 ),
             }

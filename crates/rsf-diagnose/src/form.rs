@@ -44,8 +44,10 @@
 //! reshaped law is, with one added parameter.
 //!
 //! This is a test of the model named, not a candidate: a reshaped law is never named as the
-//! cause, and the test does not run for the baseline of a `none` verdict, where no cause is
-//! claimed.
+//! cause. For a `none` verdict the model named is the baseline (`none` claims it explains the
+//! record), reshaped in state and direct effect, with no rival: an effect each candidate on the
+//! menu mimics too little to be decisive (a direct effect that varies with the slip rate) is
+//! found there, and the verdict is `unexplained`.
 
 use super::candidate::Ctx;
 use super::cause::Cause;

@@ -321,18 +321,21 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     let named_noise = named_noisy.as_ref().map_or_else(|| ctx.base_noise.model.clone(), |n| n.model.clone());
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect), Some(&named_noise));
-    // the form test of a cause's model the other tests found no misfit in (`form.rs`)
-    // and of the best other credible decisive candidate: a rival whose law, reshaped, nests the
-    // record's where the named one's does not
-    let testable = named_noisy.is_some() && chosen.is_some() && adequacy.verdict != AdequacyVerdict::Inadequate;
-    let form = match (&named_noisy, named_opts, chosen) {
-        (Some(_), Some(o), Some(c1)) if testable => {
-            let named_causes = [Some(c1.cause), secondary.as_ref().map(|s| s.cause)];
-            let rival = decisive
-                .iter()
-                .filter(|c| !named_causes.contains(&Some(c.cause)) && ineligible(c, level).is_none())
-                .find_map(|c| Some((c.cause, c.options.as_ref()?, c.fit.as_ref()?)));
-            let named_cause = secondary.as_ref().map_or(c1.cause, |s| s.cause);
+    // the form test (`form.rs`) of the model the other tests found no misfit in: the cause's, with
+    // the best other credible decisive candidate (a rival whose law, reshaped, nests the record's
+    // where the named one's does not), or the baseline's for `none` (which claims the baseline
+    // explains the record: a rate-dependent direct effect or a law's reshaped state, each short
+    // of a decisive candidate on the menu, is found there)
+    let form = match named_opts {
+        Some(o) if adequacy.verdict != AdequacyVerdict::Inadequate && (chosen.is_none() || named_noisy.is_some()) => {
+            let named_causes = [chosen.map(|c| c.cause), secondary.as_ref().map(|s| s.cause)];
+            let rival = chosen.and_then(|_| {
+                decisive
+                    .iter()
+                    .filter(|c| !named_causes.contains(&Some(c.cause)) && ineligible(c, level).is_none())
+                    .find_map(|c| Some((c.cause, c.options.as_ref()?, c.fit.as_ref()?)))
+            });
+            let named_cause = secondary.as_ref().map(|s| s.cause).or(chosen.map(|c| c.cause)).unwrap_or(Cause::None);
             form_test(&ctx, (named_cause, o, named_fit), &Vec::from_iter(rival))
         }
         _ => None,

@@ -172,21 +172,28 @@ fn form(d: &Diagnosis) -> String {
     let Some(f) = &d.adequacy.form else {
         return String::new();
     };
+    // the model judged: the baseline for a `none` verdict (or an `unexplained` one that named nothing)
+    let named = match f.model {
+        rsf_diagnose::Cause::None => "the baseline",
+        _ => "the model named",
+    };
     let whose = if f.named {
-        format!("the law of the model named ({})", f.laws.join(" and "))
+        format!("the law of {named} ({})", f.laws.join(" and "))
     } else {
         format!("the law of the best rival, {} ({})", cause_words(f.model), f.laws.join(" and "))
     };
     let (what, wrong) = match (f.reshaping, f.a_slope) {
         (Reshaping::DirectEffect, Some((a1, ratio))) => (
             format!(
-                "the model named with a rate-dependent direct effect, ∂f/∂ln V = a + a₁ ln(V/V0) (a₁ = 0 is the \
+                "{named} with a rate-dependent direct effect, ∂f/∂ln V = a + a₁ ln(V/V0) (a₁ = 0 is the \
                  model itself), fitted warm from its optimum: a₁ = {}, a₁/a = {}",
                 fmt_num(a1, 3),
                 fmt_num(ratio, 3)
             ),
-            "the model named has the wrong direct effect — one that changes with the slip rate, which bends \
-             the steady state and makes up- and down-steps jump unlike",
+            format!(
+                "{named} has the wrong direct effect — one that changes with the slip rate, which bends the \
+                 steady state and makes up- and down-steps jump unlike"
+            ),
         ),
         (Reshaping::DirectEffect, None) | (Reshaping::State, _) => {
             let p: Vec<String> = f.p.iter().map(|p| fmt_num(*p, 3)).collect();
@@ -196,21 +203,24 @@ fn form(d: &Diagnosis) -> String {
                      steady state), fitted warm from its optimum: p = {}",
                     p.join(", ")
                 ),
-                "the model named has the wrong dependence on state — a near neighbour of the record's law, which \
-                 the residual tests cannot tell from it at this noise",
+                format!(
+                    "{named} has the wrong dependence on state — a near neighbour of the record's law, which \
+                     the residual tests cannot tell from it at this noise"
+                ),
             )
         }
     };
     let words = format!(
-        "Form: {what}, ΔBIC {} against the model named, rms ratio {}. {}",
+        "Form: {what}, ΔBIC {} against {named}, rms ratio {}. {}",
         fmt_num(f.delta_bic, 4),
         fmt_num(f.rms_ratio, 4),
         if f.misfit {
             format!("It fits decisively better: {wrong} — and explains nothing.")
         } else if f.delta_bic < rsf_diagnose::DECISIVE {
-            "The gain is no more than the record's noise gives the reshaped model when the model named is true \
-             (its null replicates): the model's form is the record's as far as the record can tell."
-                .into()
+            format!(
+                "The gain is no more than the record's noise gives the reshaped model when {named} is true \
+                 (its null replicates): the model's form is the record's as far as the record can tell."
+            )
         } else {
             "No reshaping earns its parameter: the model's form is the record's as far as the record can tell.".into()
         }

@@ -113,7 +113,8 @@ def diagnose_many(manifest_or_paths: Union[PathLike, Sequence[PathLike]], stiffn
     ``events_tested`` (of ``events``, the record's steps and reslides), ``drift_rms`` and
     ``quiet_wander`` (the named model's residuals' wander in the quiet stretches of sliding over
     what their noise model says, in variance: far below 1 when its drift is misfit) and
-    ``form_delta_bic`` (the form test: ΔBIC of the best model reshaped in state against the one
-    named; below −10 its law is not the record's) and ``lead_z`` (the lead of the cause chosen
+    ``form_delta_bic`` (the form test: ΔBIC of the best model reshaped in state or with a
+    rate-dependent direct effect against the one named, or the baseline for ``none``; below −10
+    and beyond chance its form is not the record's) and ``lead_z`` (the lead of the cause chosen
     over its best credible rival in spreads of their log-likelihood ratio under the noise)."""
     return _many(manifest_or_paths, stiffness, client, fit, True, progress, options, allow_outside)
