@@ -1,7 +1,9 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use rsf_diagnose::{Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence};
+use rsf_diagnose::{
+    AdequacyVerdict, Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence,
+};
 use rsf_fit::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
@@ -319,28 +321,50 @@ pub fn verdict(d: &Diagnosis) -> String {
     }
     if d.cause == Cause::Unexplained {
         let a = &d.adequacy;
-        let mut s = format!(
-            "No model on the menu explains the record: {} still misfits where the protocol's events are — \
-             an event-locked misfit of rms {} against a noise band of {} ({}× the noise's variance; a chance \
-             of {} under noise alone)",
-            match d.partial {
-                Some(_) => format!("even the best extension, {},", need(d)),
-                None => format!("the {baseline}"),
-            },
-            fmt_num(a.event_rms, 2),
-            fmt_num(a.noise_rms, 2),
-            fmt_num(a.excess, 3),
-            fmt_num(a.p_value, 2)
-        );
-        let worst: Vec<String> = a
-            .events
-            .iter()
-            .take(3)
-            .map(|e| format!("the {} at t = {} s ({}× its placebos)", e.event, fmt_num(e.t, 4), fmt_num(e.ratio, 2)))
-            .collect();
-        if !worst.is_empty() {
-            s += &format!("; worst: {}", worst.join(", "));
+        let who = match d.partial {
+            Some(_) => format!("even the best extension, {},", need(d)),
+            None => format!("the {baseline}"),
+        };
+        // where the misfit was found: by each test that found it, in the diagnosis's words
+        let mut found: Vec<String> = vec![];
+        if a.event_verdict == AdequacyVerdict::Inadequate {
+            let mut e = format!(
+                "where the protocol's events are, an event-locked misfit of rms {} against a noise band of {} ({}× \
+                 the noise's variance; a chance of {} under noise alone)",
+                fmt_num(a.event_rms, 2),
+                fmt_num(a.noise_rms, 2),
+                fmt_num(a.excess, 3),
+                fmt_num(a.p_value, 2)
+            );
+            let worst: Vec<String> = a
+                .events
+                .iter()
+                .take(3)
+                .map(|e| {
+                    format!("the {} at t = {} s ({}× its placebos)", e.event, fmt_num(e.t, 4), fmt_num(e.ratio, 2))
+                })
+                .collect();
+            if !worst.is_empty() {
+                e += &format!(", worst {}", worst.join(", "));
+            }
+            found.push(e);
         }
+        if a.levels.inadequate() {
+            found.extend(a.levels.words());
+        }
+        if a.quiet.inadequate() {
+            found.extend(a.quiet.words());
+        }
+        if a.event_verdict == AdequacyVerdict::Untestable && a.coherence.verdict == AdequacyVerdict::Inadequate {
+            found.push(format!("compared with each other, {}", a.coherence.words()));
+        }
+        if let Some(f) = a.form.as_ref().filter(|f| f.inadequate()) {
+            found.push(f.words());
+        }
+        if found.is_empty() {
+            found.push("beyond the noise".into());
+        }
+        let mut s = format!("No model on the menu explains the record: {who} still misfits — {}", found.join("; "));
         if let Some(g) = &d.gain {
             s += &format!("; the partial extension gains ΔBIC = {}", fmt_num(g.delta_bic, 3));
         }

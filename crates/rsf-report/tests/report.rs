@@ -206,3 +206,31 @@ fn a_lead_the_noise_could_reverse_is_said_so() {
     assert!(!verdict.contains("within 10 of each other"), "{verdict}");
     assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
 }
+
+/// `unexplained` where no cause was chosen (a rate-dependent direct effect that no candidate
+/// mimics, tests/data/outside/rate_a_none_baseline.csv): the form test judged the baseline, and
+/// the report says so — the baseline, not a "model named", has the wrong direct effect.
+#[test]
+fn a_baseline_that_misfits_in_form_is_named_as_the_baseline() {
+    let d = diagnosed_record("outside/rate_a_none_baseline.csv", 0.06881918692627965);
+    assert_eq!(d.cause.as_str(), "unexplained", "{}", d.reason);
+    let html = diagnosis_html(&d, "unexplained baseline");
+    let verdict = verdict_text(&html);
+    assert!(!verdict.contains("model named"), "{verdict}");
+    // the misfit as the test that found it says: not an event test's numbers it did not measure
+    assert!(verdict.contains("its direct effect is not the record's"), "{verdict}");
+    assert!(!verdict.contains("event-locked misfit of rms –"), "{verdict}");
+    let text = visible(&html);
+    let form = &text[text.find("Form:").expect("the form test's paragraph")..];
+    let form = &form[..form.find("explains nothing").expect("its verdict")];
+    println!("{form}");
+    for words in [
+        "the baseline with a rate-dependent direct effect",
+        "against the baseline",
+        "the baseline has the wrong direct effect",
+    ] {
+        assert!(form.contains(words), "{words}: {form}");
+    }
+    assert!(!form.contains("model named"), "{form}");
+    assert!(long_floats(&(text + &chart_text(&html))).is_empty());
+}
