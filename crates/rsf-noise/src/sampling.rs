@@ -39,6 +39,11 @@ const SAME_INTERVAL: f64 = 0.1;
 /// A record is variably sampled when its 90th-percentile interval exceeds its 10th by this
 /// factor; a few intervals doubled by removed spikes do not make a record variable.
 const VARIABLE_SAMPLING_RATIO: f64 = 2.0;
+/// An interval of more than this many median intervals is a gap (`is_variable`): one or two
+/// missing samples (a removed spike, a dropped reading) leave neighbours in sample index within
+/// about one correlation step of each other; a break-timing mask leaves out seconds (4–35
+/// intervals on the detection study's records).
+const GAP_INTERVALS: f64 = 3.0;
 /// A stretch shorter than this gives no spectrum (fewer than 16 Fourier ordinates).
 const MIN_STRETCH: usize = 32;
 /// Bins grow by this factor in a pool's periodogram above its [`SINGLE_BINS`] lowest ordinates
@@ -65,7 +70,13 @@ pub(super) fn median_interval(times: &[f64]) -> f64 {
 }
 
 /// Whether `times` are sampled at intervals that differ by more than [`VARIABLE_SAMPLING_RATIO`]
-/// between their 10th and 90th percentiles.
+/// between their 10th and 90th percentiles, or have a gap: an interval of more than
+/// [`GAP_INTERVALS`] median intervals. A uniformly sampled record whose samples near the breaks were left out
+/// (`rsf-diagnose`'s break-timing mask) or whose logging paused is one: in sample index its
+/// residuals on the two sides of a gap would be neighbours, though the noise has decorrelated
+/// across the gap's seconds — a splice whose jump the sample-index likelihood reads as one
+/// large innovation, which a model that bends across it wins, and which replicates drawn in
+/// sample index never have. In time, the gap is a gap.
 pub(super) fn is_variable(times: &[f64]) -> bool {
     let mut d: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
     if d.len() < 2 * MIN_STRETCH {
@@ -73,7 +84,8 @@ pub(super) fn is_variable(times: &[f64]) -> bool {
     }
     d.sort_by(f64::total_cmp);
     let (p10, p90) = (d[d.len() / 10], d[d.len() * 9 / 10]);
-    p90 > VARIABLE_SAMPLING_RATIO * p10
+    let (median, longest) = (d[d.len() / 2], d[d.len() - 1]);
+    p90 > VARIABLE_SAMPLING_RATIO * p10 || longest > GAP_INTERVALS * median
 }
 
 /// Maximal runs of samples whose intervals stay within [`SAME_INTERVAL`] of the run's first.

@@ -64,6 +64,13 @@ fn stretches_split_at_a_change_of_interval_and_tolerate_jitter() {
     assert!(long.iter().all(|s| (s.dt - 0.01).abs() < 1e-4 || (s.dt - 0.5).abs() < 1e-3), "{long:?}");
     let uniform: Vec<f64> = (0..5000).map(|i| 0.1 * i as f64).collect();
     assert!(!is_variable(&uniform));
+    // a removed spike (one interval doubled) leaves a record uniform; seconds left out after a
+    // break (a break-timing mask: 8 samples) make it a record in time, where a gap is a gap
+    let spike: Vec<f64> = uniform.iter().copied().enumerate().filter(|&(i, _)| i != 2500).map(|(_, t)| t).collect();
+    assert!(!is_variable(&spike));
+    let masked: Vec<f64> =
+        uniform.iter().copied().enumerate().filter(|&(i, _)| !(2500..2508).contains(&i)).map(|(_, t)| t).collect();
+    assert!(is_variable(&masked));
 }
 
 /// The case: AR(1) noise in time (τ = 3 s) on variable sampling is not drift, and
