@@ -123,7 +123,40 @@ pub struct Adequacy {
     pub form: Option<FormTest>,
 }
 
+/// A test of the adequacy verdict that can find misfit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AdequacyTest {
+    /// Event windows against quiet placebos.
+    Events,
+    /// Each step's change of level (`levels.rs`).
+    Levels,
+    /// The wander inside the quiet stretches against the noise model (`quiet.rs`).
+    Quiet,
+    /// The events' misfits against each other, where the event test could not run
+    /// (`coherence.rs`).
+    Coherence,
+    /// The model reshaped (`form.rs`).
+    Form,
+}
+
 impl Adequacy {
+    /// The tests that found misfit, in the order the verdict reads them: the model is
+    /// inadequate exactly when this is not empty.
+    pub fn misfits(&self) -> Vec<AdequacyTest> {
+        let coherence =
+            self.event_verdict == AdequacyVerdict::Untestable && self.coherence.verdict == AdequacyVerdict::Inadequate;
+        [
+            (self.event_verdict == AdequacyVerdict::Inadequate, AdequacyTest::Events),
+            (self.levels.inadequate(), AdequacyTest::Levels),
+            (self.quiet.inadequate(), AdequacyTest::Quiet),
+            (coherence, AdequacyTest::Coherence),
+            (self.form.as_ref().is_some_and(FormTest::inadequate), AdequacyTest::Form),
+        ]
+        .into_iter()
+        .filter_map(|(found, t)| found.then_some(t))
+        .collect()
+    }
+
     /// How many of the record's events were tested, when not all: `; 2 of 8 events tested`.
     pub fn untested_words(&self) -> String {
         if self.windows < self.events_total {

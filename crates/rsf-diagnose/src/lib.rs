@@ -77,7 +77,7 @@ mod starts;
 mod timing;
 mod windows;
 
-pub use adequacy::{Adequacy, EventMisfit, MIN_WINDOWS, adequacy};
+pub use adequacy::{Adequacy, AdequacyTest, EventMisfit, MIN_WINDOWS, adequacy};
 pub use candidate::cause_variants;
 pub use cause::{Baseline, Cause, Effect, EffectEntry, EffectKey, EffectValue, effect_of};
 pub use coherence::{Coherence, EventDirection, EventProfile, SIGN_PATTERNS};

@@ -33,6 +33,7 @@ fn gaps_left_by_the_timing_mask_are_gaps_in_time() {
     let noise = d.evidence.noise.as_ref().expect("a noise model");
     assert!(noise.sampling.is_some(), "the residuals' noise model is in sample index");
     assert_eq!(d.cause, Cause::None, "{}", d.reason);
+    assert!(d.adequacy.misfits().is_empty(), "{:?}", d.adequacy.misfits());
     let decisive: Vec<_> =
         d.candidates.iter().filter(|c| c.delta_bic < rsf_diagnose::DECISIVE).map(|c| c.cause).collect();
     assert!(decisive.is_empty(), "decisive on a Slip truth: {decisive:?}");

@@ -341,6 +341,7 @@ fn a_direct_effect_no_candidate_mimics_is_not_explained() {
     let (a1, _) = form.a_slope.expect("a₁ fitted");
     assert!((a1 / 1.9924e-4 - 1.0).abs() < 0.1, "a₁ {a1:e} vs the truth's 1.9924e-4");
     assert_eq!(d.cause, Cause::Unexplained, "{}", d.reason);
+    assert_eq!(d.adequacy.misfits(), [rsf_diagnose::AdequacyTest::Form], "only the form test found misfit");
     assert_eq!(d.partial, None, "{}", d.reason);
     assert!(
         d.reason.contains("the baseline does not explain the record: its direct effect is not the record's"),

@@ -1,9 +1,7 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use rsf_diagnose::{
-    AdequacyVerdict, Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence,
-};
+use rsf_diagnose::{AdequacyTest, Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence};
 use rsf_fit::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
@@ -326,41 +324,41 @@ pub fn verdict(d: &Diagnosis) -> String {
             None => format!("the {baseline}"),
         };
         // where the misfit was found: by each test that found it, in the diagnosis's words
-        let mut found: Vec<String> = vec![];
-        if a.event_verdict == AdequacyVerdict::Inadequate {
-            let mut e = format!(
-                "where the protocol's events are, an event-locked misfit of rms {} against a noise band of {} ({}× \
-                 the noise's variance; a chance of {} under noise alone)",
-                fmt_num(a.event_rms, 2),
-                fmt_num(a.noise_rms, 2),
-                fmt_num(a.excess, 3),
-                fmt_num(a.p_value, 2)
-            );
-            let worst: Vec<String> = a
-                .events
-                .iter()
-                .take(3)
-                .map(|e| {
-                    format!("the {} at t = {} s ({}× its placebos)", e.event, fmt_num(e.t, 4), fmt_num(e.ratio, 2))
-                })
-                .collect();
-            if !worst.is_empty() {
-                e += &format!(", worst {}", worst.join(", "));
-            }
-            found.push(e);
-        }
-        if a.levels.inadequate() {
-            found.extend(a.levels.words());
-        }
-        if a.quiet.inadequate() {
-            found.extend(a.quiet.words());
-        }
-        if a.event_verdict == AdequacyVerdict::Untestable && a.coherence.verdict == AdequacyVerdict::Inadequate {
-            found.push(format!("compared with each other, {}", a.coherence.words()));
-        }
-        if let Some(f) = a.form.as_ref().filter(|f| f.inadequate()) {
-            found.push(f.words());
-        }
+        let found: Vec<String> = a
+            .misfits()
+            .into_iter()
+            .filter_map(|t| match t {
+                AdequacyTest::Events => {
+                    let worst: Vec<String> = a
+                        .events
+                        .iter()
+                        .take(3)
+                        .map(|e| {
+                            format!(
+                                "the {} at t = {} s ({}× its placebos)",
+                                e.event,
+                                fmt_num(e.t, 4),
+                                fmt_num(e.ratio, 2)
+                            )
+                        })
+                        .collect();
+                    Some(format!(
+                        "where the protocol's events are, an event-locked misfit of rms {} against a noise band of {} \
+                         ({}× the noise's variance; a chance of {} under noise alone){}",
+                        fmt_num(a.event_rms, 2),
+                        fmt_num(a.noise_rms, 2),
+                        fmt_num(a.excess, 3),
+                        fmt_num(a.p_value, 2),
+                        if worst.is_empty() { String::new() } else { format!(", worst {}", worst.join(", ")) }
+                    ))
+                }
+                AdequacyTest::Levels => a.levels.words(),
+                AdequacyTest::Quiet => a.quiet.words(),
+                AdequacyTest::Coherence => Some(format!("compared with each other, {}", a.coherence.words())),
+                AdequacyTest::Form => a.form.as_ref().map(|f| f.words()),
+            })
+            .collect();
+        let mut found = found;
         if found.is_empty() {
             found.push("beyond the noise".into());
         }
