@@ -373,7 +373,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
     let c = &d.adequacy.coherence;
     let q = &d.adequacy.quiet;
     out += &format!(
-        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{}{}{})\n",
+        "adequacy: {} (events {}: excess {:.2}, p {:.3}, {} of {} tested{}{}{}{})\n",
         d.adequacy.verdict.as_str(),
         d.adequacy.event_verdict.as_str(),
         d.adequacy.excess,
@@ -422,7 +422,8 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
             )
         } else {
             String::new()
-        }
+        },
+        d.adequacy.family_words().map_or_else(String::new, |f| format!("; {f}"))
     );
     if let Some(f) = &d.adequacy.form {
         out += &format!("form test: {}\n", f.words());

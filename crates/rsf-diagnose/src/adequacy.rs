@@ -52,8 +52,8 @@ use super::form::FormTest;
 use super::levels::{LevelTest, level_test};
 use super::quiet::{QuietTest, quiet_test};
 #[cfg(doc)]
-use super::rule::{ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, PLACEBOS};
-use super::rule::{AdequacyVerdict, MIN_PLACEBOS, WINDOW_DC, evenly, misfit, quiet_stretches};
+use super::rule::{ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE, PLACEBOS};
+use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, MIN_PLACEBOS, WINDOW_DC, evenly, misfit, quiet_stretches};
 use super::sensitivity::FitEffect;
 use super::timing::TIMING_SIGMAS;
 use super::windows::{bin_time_fractions, break_shifts, event_shape, least_q, model_rate, window_bins};
@@ -121,6 +121,9 @@ pub struct Adequacy {
     /// The form test (`form.rs`): does the law named fit better reshaped in state? Run on the
     /// model of a named cause whose other tests found no misfit; part of the verdict.
     pub form: Option<FormTest>,
+    /// The tests that share the level (`rule.rs`): the tests alone for a named model, the
+    /// tests that ran for the baseline of a `none` verdict ([`Adequacy::baseline_family`]).
+    pub family: Family,
 }
 
 /// A test of the adequacy verdict that can find misfit.
@@ -157,6 +160,36 @@ impl Adequacy {
         .collect()
     }
 
+    /// The family of the baseline's tests: each test that ran (the event test, or the
+    /// coherence test where it could not run; the level and quiet tests), and the form test,
+    /// which runs when they find nothing.
+    pub fn baseline_family(&self) -> Family {
+        let events = match self.event_verdict {
+            AdequacyVerdict::Untestable => self.coherence.verdict != AdequacyVerdict::Untestable,
+            AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => true,
+        };
+        let ran = [events, self.levels.ran(), self.quiet.ran(), true];
+        Family { tests: ran.into_iter().filter(|r| *r).count() }
+    }
+
+    /// The same adequacy with its tests' level shared by `family`: each test's verdict, and
+    /// the model's, again.
+    pub(super) fn held_to(mut self, family: Family) -> Self {
+        self.family = family;
+        self.levels.family = family;
+        self.quiet.family = family;
+        self.coherence = self.coherence.held_to(family);
+        if self.event_verdict != AdequacyVerdict::Untestable {
+            self.event_verdict = if misfit(self.p_value, self.excess, family) {
+                AdequacyVerdict::Inadequate
+            } else {
+                AdequacyVerdict::Adequate
+            };
+        }
+        self.verdict = verdict_of(self.event_verdict, &self.levels, &self.quiet, &self.coherence);
+        self
+    }
+
     /// How many of the record's events were tested, when not all: `; 2 of 8 events tested`.
     pub fn untested_words(&self) -> String {
         if self.windows < self.events_total {
@@ -175,11 +208,28 @@ impl Adequacy {
             Some(q) => format!("{q}; {base}"),
             None => base,
         };
-        match &self.form {
+        let words = match &self.form {
             Some(f) if f.inadequate() => format!("{}; {base}", f.words()),
             Some(f) => format!("{base}; {}", f.words()),
             None => base,
+        };
+        match self.family_words() {
+            Some(f) => format!("{words}; {f}"),
+            None => words,
         }
+    }
+
+    /// The shared level in words, when the tests share it (the baseline's): `its 4 tests share
+    /// the 1 % level, each held to 0.25 %`.
+    pub fn family_words(&self) -> Option<String> {
+        (self.family.tests > 1).then(|| {
+            format!(
+                "its {} tests share the {} % level, each held to {} %",
+                self.family.tests,
+                100.0 * ADEQUACY_LEVEL,
+                format!("{:.3}", 100.0 * self.family.level()).trim_end_matches('0')
+            )
+        })
     }
 
     /// The same adequacy with the form test's outcome: inadequate when it finds misfit.
@@ -281,7 +331,7 @@ pub fn adequacy(
     let fit_effect = || cached.get_or_init(|| effect.and_then(|e| e())).clone();
     let levels = match effect {
         Some(_) => level_test(f, segments, load_point_sigma_um, &fit_effect),
-        None => LevelTest { p_value: f64::NAN, excess: f64::NAN, steps: vec![] },
+        None => LevelTest { p_value: f64::NAN, excess: f64::NAN, steps: vec![], family: Family::ALONE },
     };
     let quiet_wander = match (noise, effect.is_some().then(fit_effect).flatten()) {
         (Some(m), Some(e)) => quiet_test(f, segments, m, &e),
@@ -373,6 +423,7 @@ pub fn adequacy(
             coherence,
             quiet: quiet_wander,
             form: None,
+            family: Family::ALONE,
         };
     }
     // per window: where ln Q stands among its placebos' ln Q, as a prediction-interval t with
@@ -412,7 +463,8 @@ pub fn adequacy(
     // the typical window's: the geometric mean over the windows of Q over its placebos' typical Q
     let excess = (ln_excess / n).exp();
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
-    let event_verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let event_verdict =
+        if misfit(p_value, excess, Family::ALONE) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Adequacy {
         verdict: verdict_of(event_verdict, &levels, &quiet_wander, &coherence),
         event_verdict,
@@ -427,5 +479,6 @@ pub fn adequacy(
         coherence,
         quiet: quiet_wander,
         form: None,
+        family: Family::ALONE,
     }
 }

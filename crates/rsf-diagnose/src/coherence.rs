@@ -34,7 +34,7 @@
 //! reach p < [`crate::ADEQUACY_LEVEL`] (too few events of a kind). It is used where the event
 //! test cannot run; where it can, the placebos measure the misfit against the noise itself.
 
-use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, misfit, p_words};
+use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, misfit, p_words};
 use super::windows::{BIN_EDGES, BINS, Bins, least_shift_profile};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -133,6 +133,19 @@ impl Coherence {
             compared,
             profiles,
         }
+    }
+
+    /// The same test with its level shared by `family` (`rule.rs`): the verdict again, where it
+    /// could be tested.
+    pub(super) fn held_to(mut self, family: Family) -> Self {
+        if self.verdict != AdequacyVerdict::Untestable {
+            self.verdict = if misfit(self.p_value, self.excess, family) {
+                AdequacyVerdict::Inadequate
+            } else {
+                AdequacyVerdict::Adequate
+            };
+        }
+        self
     }
 
     /// The verdict in words, for the diagnosis's reason.
@@ -281,7 +294,8 @@ pub(super) fn coherence(windows: &[EventWindow]) -> Coherence {
         }
     }
     let excess = if about_mean > 0.0 { about_zero / about_mean } else { f64::NAN };
-    let verdict = if misfit(p_value, excess) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let verdict =
+        if misfit(p_value, excess, Family::ALONE) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
     Coherence { verdict, p_value, excess, windows: profiles.len(), compared, profiles }
 }
 

@@ -54,6 +54,7 @@ use super::cause::Cause;
 use super::decide::BLIND_DECISIVE;
 use super::evidence::{Noisy, noisy, scores};
 use super::null::{NullCalibration, gain, replicate, replicate_load_point, sequential};
+use super::rule::Family;
 use super::{DECISIVE, DiagnoseOptions};
 use rsf_fit::data::Record;
 use rsf_fit::fit::{FitOptions, FitResult, ParamName, Params, Prepared, prepare};
@@ -223,7 +224,7 @@ fn refit(
 /// The form test of the model named, `named`, against itself reshaped and each of `rivals`
 /// reshaped (module doc): the best of them. `None` when no model could be reshaped (a law with
 /// a parameter named [`EXPONENT`]) or fitted.
-pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted]) -> Option<FormTest> {
+pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted], family: Family) -> Option<FormTest> {
     let (rec, segs) = (ctx.rec, ctx.segs);
     // (is it the model named, what is reshaped, (cause, options, its fit)): the model named's
     // state and direct effect, each rival's state
@@ -299,25 +300,28 @@ pub(super) fn form_test(ctx: &Ctx, named: Fitted, rivals: &[Fitted]) -> Option<F
     }
     let shaped_opts =
         models.iter().find(|m| m.0 == best.named && m.1 == best.reshaping && m.2.0 == best.model).map(|m| m.2)?;
+    // the level the best gain is held to: shared by the reshapings tried and the family
+    let level = ctx.opts.false_alarm_level / tried.len().max(1) as f64 * family.share();
     if ctx.opts.null_replicates > 0 {
         let observed = gain(&against.f, &against.n, &r.f, &r.n);
-        best.null = null(ctx, &control, o_named, (best.reshaping, shaped_opts), observed, &r.n);
+        best.null = null(ctx, &control, o_named, (best.reshaping, shaped_opts), observed, &r.n, level);
     }
-    best.misfit = significant(ctx.opts, best.delta_bic, best.null.as_ref(), tried.len());
+    best.misfit = significant(ctx.opts, best.delta_bic, best.null.as_ref(), level);
     Some(best)
 }
 
-/// Whether a decisive gain (`delta_bic`), the best of `tried` reshaped models, is beyond chance
-/// under its `null` (none: no replicates were asked for, and the decisive ΔBIC decides): below
-/// the false-alarm level divided by `tried` (Bonferroni: the best of several gains is chosen
-/// before its null is drawn, and each reshaping tried is one more chance for the truth to
-/// lose), or, where the replicates only lose (their null describes nothing), beyond ten times
-/// the decisive ΔBIC.
-fn significant(opts: &DiagnoseOptions, delta_bic: f64, null: Option<&NullCalibration>, tried: usize) -> bool {
+/// Whether a decisive gain (`delta_bic`), the best of the reshaped models tried, is beyond
+/// chance under its `null` (none: no replicates were asked for, and the decisive ΔBIC decides):
+/// below `level` — the false-alarm level divided by the reshapings tried (Bonferroni: the best
+/// of several gains is chosen before its null is drawn, and each reshaping tried is one more
+/// chance for the truth to lose) and shared by the test's family (`rule.rs`'s `Family`) — or,
+/// where the replicates only lose (their null describes nothing), beyond ten times the decisive
+/// ΔBIC.
+fn significant(opts: &DiagnoseOptions, delta_bic: f64, null: Option<&NullCalibration>, level: f64) -> bool {
     match null {
         None => opts.null_replicates == 0,
         Some(n) if n.uninformative => delta_bic < BLIND_DECISIVE,
-        Some(n) => n.false_alarm_probability < opts.false_alarm_level / tried.max(1) as f64,
+        Some(n) => n.false_alarm_probability < level,
     }
 }
 
@@ -333,6 +337,7 @@ fn null(
     (reshaping, shaped): (Reshaping, Fitted),
     observed: f64,
     nr: &Noisy,
+    level: f64,
 ) -> Option<NullCalibration> {
     let (_, o_shaped, from_shaped) = shaped;
     let added = match reshaping {
@@ -353,5 +358,5 @@ fn null(
         let fr = refit(ctx, &rec, &segs, o_shaped, &from_shaped.params, Some(reshaping))?;
         Some(gain(&fb.f, &fb.n, &fr.f, &fr.n))
     };
-    sequential(ctx.opts, observed, dk, one)
+    sequential(ctx.opts, level, observed, dk, one)
 }

@@ -52,9 +52,9 @@
 //! there: the fit's effect carries one change per uncertain velocity (`sensitivity.rs`), added
 //! to the null as the parameters' are.
 
-use super::rule::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, MIN_PLACEBOS, evenly, p_words, quiet_stretches};
+use super::rule::{ADEQUACY_EXCESS, Family, MIN_PLACEBOS, evenly, p_words, quiet_stretches};
 #[cfg(doc)]
-use super::rule::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE, PLACEBOS};
+use super::rule::{ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, PLACEBOS};
 use super::sensitivity::FitEffect;
 use super::timing::unpredictable;
 use super::windows::MIN_WINDOW_SAMPLES;
@@ -96,6 +96,8 @@ pub struct LevelTest {
     pub excess: f64,
     /// Each tested step, largest |score| first.
     pub steps: Vec<LevelMisfit>,
+    /// The tests its level is shared with (`rule.rs`).
+    pub family: Family,
 }
 
 impl LevelTest {
@@ -105,8 +107,14 @@ impl LevelTest {
     /// because an event window's rank among heavy-tailed placebos cannot reach a small p however
     /// large its misfit, whereas χ² here has its own p — and over one or two steps an excess of
     /// 4 is χ² > 4 or > 8, which noise alone passes 4.6% and 1.8% of the time.
+    /// The level is shared by the test's [`Family`].
     pub fn inadequate(&self) -> bool {
-        self.p_value < ADEQUACY_LEVEL && self.excess > ADEQUACY_EXCESS
+        self.p_value < self.family.level() && self.excess > ADEQUACY_EXCESS
+    }
+
+    /// Whether the test ran (a step was tested).
+    pub fn ran(&self) -> bool {
+        self.p_value.is_finite()
     }
 
     /// The test in words, for the diagnosis's reason (`None` when no step was tested).
@@ -162,7 +170,7 @@ pub fn level_test(
     } else {
         effect().and_then(|e| chi2_with_fit(&c.time, &used, &steps, &e)).unwrap_or((f64::NAN, f64::NAN))
     };
-    LevelTest { p_value, excess, steps }
+    LevelTest { p_value, excess, steps, family: Family::ALONE }
 }
 
 /// χ² = zᵀ (I + G C Gᵀ)⁻¹ z of the steps' scores, with G the changes of level that each
@@ -352,7 +360,7 @@ mod tests {
             FitEffect { changes: vec![change], cov: vec![1.0], velocities: vec![] }
         };
         let (p_value, excess) = chi2_with_fit(time, &used, &steps, &effect).unwrap();
-        LevelTest { p_value, excess, steps }
+        LevelTest { p_value, excess, steps, family: Family::ALONE }
     }
 
     /// Noise alone, 200 records of it: the level changes across the steps as it does

@@ -98,8 +98,8 @@ pub use reconstruction::{
 pub use result::{Alternative, Candidate, Diagnosis, Disagreement, Evidence, Gain, NoiseDrift, Secondary};
 pub use rsf_noise::whiten;
 pub use rule::{
-    ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, AdequacyVerdict, PLACEBOS, WINDOW_DC,
-    p_words,
+    ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, AdequacyVerdict, Family, PLACEBOS,
+    WINDOW_DC, p_words,
 };
 pub use run::{diagnose, diagnosis_fit_options, without_spikes};
 pub use starts::{VC_PROFILE_MARGIN, VC_PROFILE_PER_DECADE};

@@ -190,22 +190,24 @@ impl Ctx<'_> {
             let fc = self.fit_cause(&pc_of, c.cause, &fb.params, &fb, &nb, 1, Some(&c.extension))?;
             Some(gain(&fb, &nb, &fc.f, &fc.nf))
         };
-        sequential(self.opts, observed, dk, one)
+        sequential(self.opts, self.opts.false_alarm_level, observed, dk, one)
     }
 }
 
 /// The null distribution of an `observed` gain (`dk` parameters added) from replicates `one`
 /// (seeded; `None` where a replicate could not be refitted), by the sequential test
-/// ([`NULL_STAGES`]): a quarter of the replicates, then half, then all. The same seeds in the
-/// same order keep the result deterministic.
+/// ([`NULL_STAGES`]) against the `level` its false-alarm probability will be held to: a
+/// quarter of the replicates, then half, then all. The same seeds in the same order keep the
+/// result deterministic.
 pub(super) fn sequential(
     opts: &super::DiagnoseOptions,
+    level: f64,
     observed: f64,
     dk: usize,
     one: impl Fn(&u64) -> Option<f64> + Sync,
 ) -> Option<NullCalibration> {
     let seeds: Vec<u64> = (0..opts.null_replicates as u64).map(|b| opts.seed.wrapping_mul(1_000_003) + b).collect();
-    let (level, n) = (opts.false_alarm_level, seeds.len());
+    let n = seeds.len();
     let mut gains = vec![];
     for (i, &(share, below, above)) in NULL_STAGES.iter().enumerate() {
         let upto = (n as f64 * share).ceil() as usize;

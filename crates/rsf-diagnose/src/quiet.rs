@@ -49,9 +49,9 @@
 //! study's record 56: its 9 stretches wander 0.18× the claim, p = 0.004 at ρ = 1, 0.05 under
 //! the composite null); a wander *above* it, on none of them.
 
+use super::rule::{ADEQUACY_EXCESS, Family, misfit, p_words, quiet_stretches};
 #[cfg(doc)]
-use super::rule::WINDOW_DC;
-use super::rule::{ADEQUACY_EXCESS, ADEQUACY_LEVEL, misfit, p_words, quiet_stretches};
+use super::rule::{ADEQUACY_LEVEL, WINDOW_DC};
 use super::sensitivity::FitEffect;
 use super::windows::MIN_WINDOW_SAMPLES;
 use rsf_fit::fit::FitResult;
@@ -87,24 +87,39 @@ pub struct QuietTest {
     pub drift_share: f64,
     /// Each tested stretch, in time order.
     pub stretches: Vec<QuietStretch>,
+    /// The tests its level is shared with (`rule.rs`).
+    pub family: Family,
 }
 
 impl QuietTest {
     /// No stretch to test.
     pub fn untested() -> Self {
-        QuietTest { ratio: f64::NAN, p_below: f64::NAN, p_above: f64::NAN, drift_share: f64::NAN, stretches: vec![] }
+        QuietTest {
+            ratio: f64::NAN,
+            p_below: f64::NAN,
+            p_above: f64::NAN,
+            drift_share: f64::NAN,
+            stretches: vec![],
+            family: Family::ALONE,
+        }
     }
 
     /// The noise model claims wander the quiet stretches do not show: more than
-    /// [`ADEQUACY_EXCESS`] times it, at p < [`ADEQUACY_LEVEL`]. Its drift is misfit.
+    /// [`ADEQUACY_EXCESS`] times it, at p < [`ADEQUACY_LEVEL`] (shared by the test's
+    /// [`Family`]). Its drift is misfit.
     pub fn drift_is_misfit(&self) -> bool {
-        self.p_below < ADEQUACY_LEVEL
+        self.p_below < self.family.level()
     }
 
     /// The quiet stretches wander more than the noise model says, by the event test's rule: the
     /// model's transients still misfit there.
     pub fn stretches_misfit(&self) -> bool {
-        misfit(self.p_above, self.ratio)
+        misfit(self.p_above, self.ratio, self.family)
+    }
+
+    /// Whether the test ran (a stretch was tested).
+    pub fn ran(&self) -> bool {
+        self.p_above.is_finite()
     }
 
     /// Either: the model does not explain the record.
@@ -212,12 +227,14 @@ pub fn quiet_test(f: &FitResult, segments: &[Segment], noise: &NoiseModel, effec
         p_above: chi(&|d| d.sf(chi2.max(0.0))),
         drift_share: noise.drift_share,
         stretches,
+        family: Family::ALONE,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ADEQUACY_LEVEL;
 
     /// A true noise model is rejected far less often than the level: at K = 9 stretches, the
     /// chance that χ²_9 falls below half its 1 % quantile (a reader's check of the arithmetic

@@ -53,11 +53,49 @@ impl AdequacyVerdict {
     }
 }
 
+/// The tests that share one claim of misfit, and so its level.
+///
+/// A named model is held to each of its tests at the full level: the cause is named only when
+/// every test passes, so each test that can reject it makes the naming more cautious, never
+/// less, and a chance rejection costs a right cause (`unexplained`), not a wrong one. The
+/// baseline of a `none` verdict is the other way round: a misfit found by *any* of its tests
+/// turns a record into `unexplained`, a claim that the baseline does not explain the data, and
+/// on a record with nothing hidden that claim is a false alarm. So there the tests share the
+/// level (Bonferroni): each is held to the level over their number, and noise alone makes the
+/// claim with probability below the level, whatever the tests' dependence on each other. The
+/// number is of the tests that ran ([`crate::Adequacy::baseline_family`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Family {
+    /// How many tests share the level (1: the test alone).
+    pub tests: usize,
+}
+
+impl Family {
+    /// A test held to the full level: a named model's.
+    pub const ALONE: Family = Family { tests: 1 };
+
+    /// The share of the level each test gets: one over the tests.
+    pub fn share(self) -> f64 {
+        1.0 / self.tests.max(1) as f64
+    }
+
+    /// [`ADEQUACY_LEVEL`], shared.
+    pub fn level(self) -> f64 {
+        ADEQUACY_LEVEL * self.share()
+    }
+
+    /// [`ADEQUACY_LEVEL_LARGE`], shared.
+    pub fn level_large(self) -> f64 {
+        ADEQUACY_LEVEL_LARGE * self.share()
+    }
+}
+
 /// The event test's rule: significant and as large as the noise (p < [`ADEQUACY_LEVEL`], excess
-/// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`].
-pub(super) fn misfit(p_value: f64, excess: f64) -> bool {
-    (p_value < ADEQUACY_LEVEL && excess > ADEQUACY_EXCESS)
-        || (p_value < ADEQUACY_LEVEL_LARGE && excess > ADEQUACY_EXCESS_LARGE)
+/// above [`ADEQUACY_EXCESS`]), or twice the noise in rms at p < [`ADEQUACY_LEVEL_LARGE`]; each
+/// level shared by the `family` of tests.
+pub(super) fn misfit(p_value: f64, excess: f64, family: Family) -> bool {
+    (p_value < family.level() && excess > ADEQUACY_EXCESS)
+        || (p_value < family.level_large() && excess > ADEQUACY_EXCESS_LARGE)
 }
 
 /// Where a placebo may lie: inside a sliding segment, after its own transient of
@@ -90,5 +128,32 @@ pub fn p_words(p: f64) -> String {
         format!("{p:.4}")
     } else {
         format!("{p:.1e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A test alone is held to the level; a family of four shares it (Bonferroni), in both of
+    /// the event rule's tiers; and the excess each tier needs is the same.
+    #[test]
+    fn a_family_shares_the_level() {
+        let four = Family { tests: 4 };
+        assert_eq!(Family::ALONE.level(), ADEQUACY_LEVEL);
+        assert!((four.level() - ADEQUACY_LEVEL / 4.0).abs() < 1e-15);
+        assert!((four.level_large() - ADEQUACY_LEVEL_LARGE / 4.0).abs() < 1e-15);
+        // p 0.005 at excess 3: misfit alone, not as one of four
+        assert!(misfit(0.005, 3.0, Family::ALONE));
+        assert!(!misfit(0.005, 3.0, four));
+        assert!(misfit(0.002, 3.0, four));
+        // the second tier: p 0.03 at excess 5
+        assert!(misfit(0.03, 5.0, Family::ALONE));
+        assert!(!misfit(0.03, 5.0, four));
+        assert!(misfit(0.01, 5.0, four));
+        // the excess is not shared: p 1e-6 at excess 1.5 is the noise level either way
+        assert!(!misfit(1e-6, 1.5, Family::ALONE) && !misfit(1e-6, 1.5, four));
+        // a family of none (never made) is a test alone
+        assert_eq!(Family { tests: 0 }.level(), ADEQUACY_LEVEL);
     }
 }

@@ -11,7 +11,7 @@ use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
 use super::form::form_test;
 use super::heldout::{heldout, sigma_first_changes_after, split_time};
-use super::rule::AdequacyVerdict;
+use super::rule::{AdequacyVerdict, Family};
 use super::starts::slip_rate_range;
 use super::timing::{load_point_sigma, timing_mask};
 use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
@@ -321,6 +321,13 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     let named_noise = named_noisy.as_ref().map_or_else(|| ctx.base_noise.model.clone(), |n| n.model.clone());
     let adequacy = adequacy(named_fit, &ctx.p.segments, ctx.load_point_sigma, Some(&effect), Some(&named_noise));
+    // a named model's tests each at the full level; the baseline's share it (`rule.rs`'s
+    // `Family`): any one of them finding misfit makes a `none` record `unexplained`
+    let family = match chosen {
+        Some(_) => Family::ALONE,
+        None => adequacy.baseline_family(),
+    };
+    let adequacy = adequacy.held_to(family);
     // the form test (`form.rs`) of the model the other tests found no misfit in: the cause's, with
     // the best other credible decisive candidate (a rival whose law, reshaped, nests the record's
     // where the named one's does not), or the baseline's for `none` (which claims the baseline
@@ -336,7 +343,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
                     .find_map(|c| Some((c.cause, c.options.as_ref()?, c.fit.as_ref()?)))
             });
             let named_cause = secondary.as_ref().map(|s| s.cause).or(chosen.map(|c| c.cause)).unwrap_or(Cause::None);
-            form_test(&ctx, (named_cause, o, named_fit), &Vec::from_iter(rival))
+            form_test(&ctx, (named_cause, o, named_fit), &Vec::from_iter(rival), family)
         }
         _ => None,
     };

@@ -51,6 +51,18 @@ pub(super) fn adequacy(d: &Diagnosis) -> String {
             fmt_num(a.p_value, 2)
         ),
     };
+    let words = match a.family_words() {
+        Some(_) => format!(
+            "{words} The baseline's {} tests (each that ran of the event, level and quiet tests, and the form \
+             test) share the {} % level: each is held to {} %, so that noise alone calls a record with nothing \
+             hidden unexplained less often than the level. A named model's tests are each held to the level \
+             itself: a chance misfit there costs a cause, not a false alarm.",
+            a.family.tests,
+            fmt_num(100.0 * rsf_diagnose::ADEQUACY_LEVEL, 2),
+            fmt_num(100.0 * a.family.level(), 3)
+        ),
+        None => words,
+    };
     let rows: Vec<(String, Vec<String>)> = a
         .events
         .iter()

@@ -232,5 +232,9 @@ fn a_baseline_that_misfits_in_form_is_named_as_the_baseline() {
         assert!(form.contains(words), "{words}: {form}");
     }
     assert!(!form.contains("model named"), "{form}");
+    // the baseline's tests share the level, and the page says how
+    let m = d.adequacy.family.tests;
+    assert!(m >= 2, "{:?}", d.adequacy.family);
+    assert!(text.contains(&format!("The baseline's {m} tests")) && text.contains("share the 1 % level"), "{text}");
     assert!(long_floats(&(text + &chart_text(&html))).is_empty());
 }
