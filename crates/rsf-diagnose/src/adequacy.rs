@@ -53,7 +53,7 @@ use super::levels::{LevelTest, level_test};
 use super::quiet::{QuietTest, quiet_test};
 #[cfg(doc)]
 use super::rule::{ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL_LARGE, PLACEBOS};
-use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, MIN_PLACEBOS, WINDOW_DC, evenly, misfit, quiet_stretches};
+use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, MIN_PLACEBOS, WINDOW_DC, evenly, judged, quiet_stretches};
 use super::sensitivity::FitEffect;
 use super::timing::TIMING_SIGMAS;
 use super::windows::{bin_time_fractions, break_shifts, event_shape, least_q, model_rate, window_bins};
@@ -180,11 +180,7 @@ impl Adequacy {
         self.quiet.family = family;
         self.coherence = self.coherence.held_to(family);
         if self.event_verdict != AdequacyVerdict::Untestable {
-            self.event_verdict = if misfit(self.p_value, self.excess, family) {
-                AdequacyVerdict::Inadequate
-            } else {
-                AdequacyVerdict::Adequate
-            };
+            self.event_verdict = judged(self.p_value, self.excess, family);
         }
         self.verdict = verdict_of(self.event_verdict, &self.levels, &self.quiet, &self.coherence);
         self
@@ -463,8 +459,7 @@ pub fn adequacy(
     // the typical window's: the geometric mean over the windows of Q over its placebos' typical Q
     let excess = (ln_excess / n).exp();
     per_event.sort_by(|a, b| b.ratio.total_cmp(&a.ratio));
-    let event_verdict =
-        if misfit(p_value, excess, Family::ALONE) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let event_verdict = judged(p_value, excess, Family::ALONE);
     Adequacy {
         verdict: verdict_of(event_verdict, &levels, &quiet_wander, &coherence),
         event_verdict,

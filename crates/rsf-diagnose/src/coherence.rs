@@ -34,7 +34,7 @@
 //! reach p < [`crate::ADEQUACY_LEVEL`] (too few events of a kind). It is used where the event
 //! test cannot run; where it can, the placebos measure the misfit against the noise itself.
 
-use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, misfit, p_words};
+use super::rule::{ADEQUACY_LEVEL, AdequacyVerdict, Family, judged, p_words};
 use super::windows::{BIN_EDGES, BINS, Bins, least_shift_profile};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -139,11 +139,7 @@ impl Coherence {
     /// could be tested.
     pub(super) fn held_to(mut self, family: Family) -> Self {
         if self.verdict != AdequacyVerdict::Untestable {
-            self.verdict = if misfit(self.p_value, self.excess, family) {
-                AdequacyVerdict::Inadequate
-            } else {
-                AdequacyVerdict::Adequate
-            };
+            self.verdict = judged(self.p_value, self.excess, family);
         }
         self
     }
@@ -294,8 +290,7 @@ pub(super) fn coherence(windows: &[EventWindow]) -> Coherence {
         }
     }
     let excess = if about_mean > 0.0 { about_zero / about_mean } else { f64::NAN };
-    let verdict =
-        if misfit(p_value, excess, Family::ALONE) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate };
+    let verdict = judged(p_value, excess, Family::ALONE);
     Coherence { verdict, p_value, excess, windows: profiles.len(), compared, profiles }
 }
 

@@ -98,6 +98,11 @@ pub(super) fn misfit(p_value: f64, excess: f64, family: Family) -> bool {
         || (p_value < family.level_large() && excess > ADEQUACY_EXCESS_LARGE)
 }
 
+/// The verdict of a test that could run, by the event test's rule ([`misfit`]).
+pub(super) fn judged(p_value: f64, excess: f64, family: Family) -> AdequacyVerdict {
+    if misfit(p_value, excess, family) { AdequacyVerdict::Inadequate } else { AdequacyVerdict::Adequate }
+}
+
 /// Where a placebo may lie: inside a sliding segment, after its own transient of
 /// [`WINDOW_DC`] times `dc_max` (µm) of slip (no event inside it, and none of an event's
 /// transient), as (start, end) in s.
