@@ -13,8 +13,10 @@
 //! replicates' gains G = 2 Δln L (each model with its own fitted noise, or the other's where
 //! it scores better, as the record's own gain is measured: `evidence::best_lls`) are matched by moments
 //! to a scaled chi-square c·χ²_d (Satterthwaite), and
-//! the false-alarm probability is its upper tail at the observed gain. The count of replicates
-//! that reached the observed gain is reported beside it.
+//! the false-alarm probability is its upper tail at the observed gain, with at most as many
+//! degrees as the parameters added (`calibrate`). The count of replicates that reached the
+//! observed gain is reported beside it. Replicates are drawn in stages and the test stops early
+//! only when its verdict does not hang on the null's unknown shape (`sequential`).
 
 use super::Candidate;
 use super::candidate::Ctx;
@@ -113,33 +115,62 @@ pub(super) fn calibrate(observed: f64, null: &[Option<f64>], dk: usize) -> Optio
     if g.len() < 4 {
         return None;
     }
-    let n = g.len() as f64;
-    let mean = g.iter().sum::<f64>() / n;
-    let var = g.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let (mean, var) = moments(&g);
     // no replicate gained, and some lost: on noise alone the extension's least-squares fit
     // lowers the likelihood of its residuals under their own noise, so its gain is no likelihood
     // ratio and the replicates do not describe its null; the calibration is marked uninformative
     // and the candidate must show more evidence (`decide::ineligible`)
     let uninformative = raw.iter().all(|&x| x <= COLLAPSED_NULL_GAIN) && raw.iter().any(|&x| x < -NEGATIVE_NULL_GAIN);
     let exceeded = g.iter().filter(|&&x| x >= observed).count();
-    // c·χ²_d with mean c d and variance 2 c² d; a degenerate null (every replicate's gain 0:
-    // its moments say nothing) falls back to the textbook χ²_dk
-    let p = if mean > 0.0 && var > 0.0 {
-        let c = var / (2.0 * mean);
-        let d = (2.0 * mean * mean / var).max(1e-3);
-        ChiSquared::new(d).map(|chi| chi.sf(observed.max(0.0) / c)).unwrap_or(f64::NAN)
-    } else {
-        ChiSquared::new(dk.max(1) as f64).map(|chi| chi.sf(observed.max(0.0))).unwrap_or(f64::NAN)
-    };
     Some(NullCalibration {
         replicates: g.len(),
         gain_mean: mean,
         gain_sd: var.sqrt(),
         gain_observed: observed,
         exceeded,
-        false_alarm_probability: p,
+        false_alarm_probability: tail(observed, &g, dk),
         uninformative,
     })
+}
+
+/// Sample mean and variance.
+fn moments(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    (mean, x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0))
+}
+
+/// P(G ≥ `observed`) under c·χ²_d matched to the moments of the gains `g` (≥ 0): mean c d,
+/// variance 2 c² d. At most dk degrees (`dk` parameters added): the gain of dk parameters
+/// under a misspecified noise is Σ λ_i χ²₁ over dk terms, no more concentrated than c·χ²_dk
+/// (all λ_i equal), so a larger d is the few replicates' variance come out small by chance
+/// (the form test of seed 3 record 106: three of four replicates at 1.9–2.0 made d 9 and put
+/// an observed 20 at 2e-12), and the mean, the better measured moment, then sets the scale.
+/// A degenerate null (every gain 0: its moments say nothing) falls back to the textbook χ²_dk.
+fn tail(observed: f64, g: &[f64], dk: usize) -> f64 {
+    let (mean, var) = moments(g);
+    let dk = dk.max(1) as f64;
+    let (c, d) = if mean > 0.0 && var > 0.0 {
+        let d = (2.0 * mean * mean / var).clamp(1e-3, dk);
+        (if d < dk { var / (2.0 * mean) } else { mean / dk }, d)
+    } else {
+        (1.0, dk)
+    };
+    ChiSquared::new(d).map(|chi| chi.sf(observed.max(0.0) / c)).unwrap_or(f64::NAN)
+}
+
+/// A bound on the false-alarm probability that holds whatever the sign of the replicates'
+/// gains: the tail of their sizes |G|, P(G ≥ x) ≤ P(|G| ≥ x). The fits are least squares and G
+/// is scored under the noise's likelihood, so G is no likelihood ratio: under noise correlated
+/// over seconds and sampled at 100 Hz a least-squares extension fitted to noise lowers that
+/// likelihood about as often as it raises it, and the gains clamped at 0 measure the null's
+/// upper tail from the few replicates that gained (the form test of seed 4 record 21: −6.7,
+/// 0.3, −14.4, −0.1, whose clamped moments put an observed 34 at 2e-45, and whose sixteen
+/// replicates reach 22.5). The sequential test stops early on a gain beyond chance only when
+/// this bound agrees.
+fn bound(observed: f64, null: &[Option<f64>], dk: usize) -> f64 {
+    let size: Vec<f64> = null.iter().flatten().map(|g| g.abs()).collect();
+    if size.len() < 2 { 1.0 } else { tail(observed, &size, dk) }
 }
 
 /// The null calibration's sequential test: after (a share of the replicates), stop when the
@@ -216,9 +247,11 @@ pub(super) fn sequential(
             continue;
         }
         gains.extend(par_map(&seeds[gains.len()..upto], opts.threads, &one));
+        // beyond chance early only if the bound of the gains' sizes says so too: the clamped
+        // gains' moments, from the few replicates that gained, can put the tail far too close
         let decided = calibrate(observed, &gains, dk).filter(|c| {
             let p = c.false_alarm_probability;
-            p < below * level || p > above * level
+            (p < below * level && bound(observed, &gains, dk) < below * level) || p > above * level
         });
         if decided.is_some() {
             return decided;
@@ -251,5 +284,44 @@ mod tests {
         // replicates that gain: the scaled χ² of their moments
         let g = calibrate(41.1, &[Some(1.0), Some(2.5), Some(0.3), Some(1.7), Some(-3.0)], 1).unwrap();
         assert!(g.false_alarm_probability < 1e-3 && g.gain_mean > 0.0 && !g.uninformative);
+    }
+
+    /// At most dk degrees: replicates that happen to agree (seed 3 record 106's form test:
+    /// 1.9, 2.0, −0.5, 1.9) are matched by the χ²₁ of their mean, not a χ²₉ that put an observed
+    /// 20 at 2e-12.
+    #[test]
+    fn few_replicates_that_agree_do_not_make_a_null_narrower_than_its_parameters() {
+        let few = calibrate(20.19, &[Some(1.893), Some(2.017), Some(-0.464), Some(1.909)], 1).unwrap();
+        let mean = (1.893 + 2.017 + 1.909) / 4.0;
+        let chi1 = ChiSquared::new(1.0).unwrap().sf(20.19 / mean);
+        assert!((few.false_alarm_probability / chi1 - 1.0).abs() < 1e-9, "{} {chi1}", few.false_alarm_probability);
+        assert!(few.false_alarm_probability > 1e-5);
+    }
+
+    /// Replicates that lose as much as they gain (seed 4 record 21's form test: −6.7, 0.3,
+    /// −14.4, −0.1) put an observed 34 far beyond their clamped moments, but not beyond the bound
+    /// of their sizes: the sequential test does not stop there, and draws all sixteen; where
+    /// replicates only gain, the bound is the tail itself.
+    #[test]
+    fn losses_as_large_as_gains_keep_the_sequential_test_drawing() {
+        let four = [Some(-6.683), Some(0.344), Some(-14.392), Some(-0.094)];
+        let c = calibrate(33.78, &four, 1).unwrap();
+        assert!(c.false_alarm_probability < 1e-40, "{}", c.false_alarm_probability);
+        assert!(bound(33.78, &four, 1) > 1e-3, "{}", bound(33.78, &four, 1));
+        let opts = super::super::DiagnoseOptions::new(rsf_fit::fit::FitOptions::new(
+            vec![rsf_laws::law_by_name("slip", |_| None).unwrap()],
+            0.01,
+        ));
+        let sixteen = [
+            -6.683, 0.344, -14.392, -0.094, -11.750, -3.455, 6.333, 3.890, 22.518, -9.328, 5.979, 0.876, 0.174, 0.512,
+            5.418, 3.065,
+        ];
+        let seeds: Vec<u64> = (0..opts.null_replicates as u64).map(|b| opts.seed.wrapping_mul(1_000_003) + b).collect();
+        let one = |s: &u64| Some(sixteen[seeds.iter().position(|x| x == s).unwrap()]);
+        let n = sequential(&opts, 0.005, 33.78, 1, one).unwrap();
+        assert_eq!(n.replicates, 16);
+        // gains that only gain stop at four, as before
+        let gained = [Some(1.0), Some(2.5), Some(0.3), Some(1.7)];
+        assert_eq!(bound(41.1, &gained, 1), calibrate(41.1, &gained, 1).unwrap().false_alarm_probability);
     }
 }

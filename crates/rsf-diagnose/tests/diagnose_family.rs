@@ -12,20 +12,14 @@
 //! noise (τ 1.35 s), spikes, time jitter. On the main before this test it was `unexplained`:
 //! its levels were off at p = 0.0074 (χ² 3.5 per step), its other tests found nothing.
 
-use rsf_diagnose::{ADEQUACY_LEVEL, AdequacyTest, Cause, DiagnoseOptions, diagnose};
-use rsf_fit::data::{ReadOptions, read_record};
-use rsf_fit::fit::{FitOptions, LoadingMode};
-use rsf_fit::segment::{SegmentOptions, detect};
+mod common;
+
+use common::diagnose_detection_record;
+use rsf_diagnose::{ADEQUACY_LEVEL, AdequacyTest, Cause};
 
 #[test]
 fn the_baseline_tests_share_the_level() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/levels_by_chance.csv");
-    let rec = read_record(&path, &ReadOptions::default()).unwrap();
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    let mut fit = FitOptions::new(vec![rsf_laws::law_by_name("slip", |_| None).unwrap()], 0.010937740354373539);
-    fit.loading = LoadingMode::Protocol;
-    let d = diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
-    println!("{}: {}", d.cause, d.reason);
+    let d = diagnose_detection_record("levels_by_chance.csv", 0.010937740354373539);
     let a = &d.adequacy;
     // the event, level and quiet tests ran, and the form test: four share the level
     assert_eq!(a.family.tests, 4, "{:?}", a.family);

@@ -13,21 +13,14 @@
 //! 0.08 ± 0.16, false-alarm probability 1e-161), with three more candidates decisive; the same
 //! friction with the load point's true lines was `none`.
 
-use rsf_diagnose::{Cause, DiagnoseOptions, diagnose};
-use rsf_fit::data::{ReadOptions, read_record};
-use rsf_fit::fit::{FitOptions, LoadingMode};
-use rsf_fit::segment::{SegmentOptions, detect};
+mod common;
+
+use common::diagnose_detection_record;
+use rsf_diagnose::Cause;
 
 #[test]
 fn gaps_left_by_the_timing_mask_are_gaps_in_time() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/detection/slip_truth_masked_gaps.csv");
-    let rec = read_record(&path, &ReadOptions::default()).unwrap();
-    let segs = detect(&rec.time, &rec.load_point, &SegmentOptions::default());
-    let mut fit = FitOptions::new(vec![rsf_laws::law_by_name("slip", |_| None).unwrap()], 0.0031904591269690096);
-    fit.loading = LoadingMode::Protocol;
-    let d = diagnose(&rec, &segs, &DiagnoseOptions { threads: 2, ..DiagnoseOptions::new(fit) }).unwrap();
-    println!("{}: {}", d.cause, d.reason);
+    let d = diagnose_detection_record("slip_truth_masked_gaps.csv", 0.0031904591269690096);
     // the break-timing mask left samples out, and the noise model is the one in time
     assert!(d.timing.as_ref().is_some_and(|t| t.samples > 0), "{:?}", d.timing);
     let noise = d.evidence.noise.as_ref().expect("a noise model");
