@@ -50,6 +50,9 @@ pub struct RecordOptions {
     pub fit_stiffness: Option<bool>,
     /// Fit a slip trend g too.
     pub fit_slip_trend: Option<bool>,
+    /// Fit a rate-dependent direct effect a₁ too (`rsf fit --fit-a-slope`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit_a_slope: Option<bool>,
     /// Drop over-range, sentinel and non-finite rows instead of refusing the record.
     pub drop_invalid: Option<bool>,
     /// Read a record that does not look like a friction experiment (friction outside
@@ -84,6 +87,7 @@ impl RecordOptions {
             loading: pick(&self.loading, &d.loading),
             fit_stiffness: pick(&self.fit_stiffness, &d.fit_stiffness),
             fit_slip_trend: pick(&self.fit_slip_trend, &d.fit_slip_trend),
+            fit_a_slope: pick(&self.fit_a_slope, &d.fit_a_slope),
             drop_invalid: pick(&self.drop_invalid, &d.drop_invalid),
             accept_implausible: pick(&self.accept_implausible, &d.accept_implausible),
             seed: pick(&self.seed, &d.seed),
@@ -126,7 +130,7 @@ pub enum Column {
 }
 
 /// The option columns, named as the fields of [`RecordOptions`].
-pub const OPTION_COLUMNS: [&str; 20] = [
+pub const OPTION_COLUMNS: [&str; 21] = [
     "stiffness",
     "time_col",
     "lp_col",
@@ -144,6 +148,7 @@ pub const OPTION_COLUMNS: [&str; 20] = [
     "loading",
     "fit_stiffness",
     "fit_slip_trend",
+    "fit_a_slope",
     "drop_invalid",
     "accept_implausible",
     "seed",
@@ -211,6 +216,7 @@ fn set(o: &mut RecordOptions, col: &str, cell: &str) -> Result<(), String> {
         "loading" => o.loading = word(cell)?,
         "fit_stiffness" => o.fit_stiffness = Some(flag()?),
         "fit_slip_trend" => o.fit_slip_trend = Some(flag()?),
+        "fit_a_slope" => o.fit_a_slope = Some(flag()?),
         "drop_invalid" => o.drop_invalid = Some(flag()?),
         "accept_implausible" => o.accept_implausible = Some(flag()?),
         "seed" => o.seed = Some(cell.parse().map_err(|_| format!("`{cell}` is not a whole number"))?),
@@ -370,13 +376,15 @@ mod tests {
     #[test]
     fn reads_options_and_meta() {
         let (_d, p) = manifest(
-            "file,stiffness,law,loading,fit_stiffness,meta_sample\na.csv,0.01,aging,protocol,yes,S1\nsub/b.csv,,,,,S2\n",
+            "file,stiffness,law,loading,fit_stiffness,fit_a_slope,meta_sample\n\
+             a.csv,0.01,aging,protocol,yes,yes,S1\nsub/b.csv,,,,,,S2\n",
         );
         let e = read_manifest(&p).unwrap();
         assert_eq!(e.len(), 2);
         assert_eq!(e[0].options.stiffness, Some(0.01));
         assert_eq!(e[0].options.law, Some(LawName::from(rsf_laws::Law::Aging)));
         assert_eq!(e[0].options.fit_stiffness, Some(true));
+        assert_eq!(e[0].options.fit_a_slope, Some(true));
         assert_eq!(e[0].meta, vec![("meta_sample".to_string(), "S1".to_string())]);
         assert_eq!(e[1].options, RecordOptions::default());
         assert!(e[1].path.ends_with("sub/b.csv"));

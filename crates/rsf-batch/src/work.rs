@@ -93,6 +93,7 @@ fn fit_options(o: &RecordOptions) -> Result<FitOptions, String> {
     fo.loading = o.loading.unwrap_or(LoadingMode::Record);
     fo.fit_stiffness = o.fit_stiffness == Some(true);
     fo.fit_slip_trend = o.fit_slip_trend == Some(true);
+    fo.fit_a_slope = o.fit_a_slope == Some(true);
     fo.starts = FIT_STARTS;
     Ok(fo)
 }

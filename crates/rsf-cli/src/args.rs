@@ -369,6 +369,9 @@ pub(crate) struct BatchArgs {
     /// Fit a slip trend g too.
     #[arg(long)]
     pub(crate) fit_slip_trend: bool,
+    /// Fit a rate-dependent direct effect a₁ too (--fit: ∂f/∂ln V = a + a_slope·ln(V/V0)).
+    #[arg(long)]
+    pub(crate) fit_a_slope: bool,
     /// Drop over-range, sentinel and non-finite rows (reported) instead of refusing the record.
     #[arg(long)]
     pub(crate) drop_invalid: bool,
@@ -493,8 +496,8 @@ The manifest is a CSV file; its columns (any order; an empty cell takes the comm
   file            the record, relative to the manifest (required)
   stiffness       nominal machine stiffness k, 1/µm
   time_col, lp_col, mu_col, shear_col, normal_col, normal_stress, disp_unit, time_unit,
-  t_min, t_max, law, baseline, loading, fit_stiffness, fit_slip_trend, drop_invalid,
-  accept_implausible, seed
+  t_min, t_max, law, baseline, loading, fit_stiffness, fit_slip_trend, fit_a_slope,
+  drop_invalid, accept_implausible, seed
                   as the options of `rsf fit` / `rsf diagnose`
   meta_...        anything else the lab records (sample, humidity): carried into the summary
 Any other column is refused, so a misspelt option is never ignored.

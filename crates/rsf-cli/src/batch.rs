@@ -44,6 +44,7 @@ fn defaults(a: &BatchArgs) -> Result<RecordOptions> {
         loading: a.loading,
         fit_stiffness: a.fit_stiffness.then_some(true),
         fit_slip_trend: a.fit_slip_trend.then_some(true),
+        fit_a_slope: a.fit_a_slope.then_some(true),
         drop_invalid: a.drop_invalid.then_some(true),
         accept_implausible: a.accept_implausible.then_some(true),
         seed: a.seed,

@@ -30,11 +30,10 @@ pub fn protocol_toml(d: &Design, rank: usize) -> Option<String> {
     if p.g != 0.0 {
         let _ = writeln!(s, "# its slip trend g = {:e} /µm is not part of rsf simulate's model", p.g);
     }
-    if p.a_slope != 0.0 {
-        let _ =
-            writeln!(s, "# its rate dependence of a, a_slope = {:e}, is not part of rsf simulate's model", p.a_slope);
-    }
     let _ = writeln!(s, "[model]\nmu0 = {:?}\nv0 = {:?}\na = {:?}\nstiffness = {:?}", p.mu0, p.v0, p.a, p.k);
+    if p.a_slope != 0.0 {
+        let _ = writeln!(s, "a_slope = {:?}", p.a_slope);
+    }
     let sigma = r.normal_stress.iter().any(|&x| x != 1.0);
     if sigma {
         let _ = writeln!(

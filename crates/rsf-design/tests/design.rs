@@ -202,6 +202,12 @@ fn a_record_at_constant_normal_stress_asks_for_a_change_of_it() {
     // the protocol file carries the ramp and σ_ref
     let toml = rsf_design::protocol_toml(&g, 1).unwrap();
     assert!(toml.contains("normal_stress = 1.0") && toml.contains("normal_stress_rate"), "{toml}");
+    // and a best model's rate-dependent direct effect, which `rsf simulate` reads back
+    let mut bent = g.clone();
+    bent.models[0].params.a_slope = 2e-4;
+    let toml = rsf_design::protocol_toml(&bent, 1).unwrap();
+    let p = rsf_solvers::protocol::parse(&toml, None, "design.toml").unwrap();
+    assert_eq!(p.problem.model.a_slope, 2e-4, "{toml}");
 }
 
 /// Through a change of σ appended after a record at constant σ, a prediction with α is the whole

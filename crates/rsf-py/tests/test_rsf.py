@@ -137,6 +137,25 @@ def test_fit_a_rate_dependent_direct_effect_equals_the_cli():
     assert "a_slope" not in rsf.fit(rec, law="slip", stiffness=k)["params"]
 
 
+def test_a_model_with_a_rate_dependent_direct_effect_simulates_and_round_trips():
+    """``Model.a_slope`` (a₁): the steady state after a step to 10 µm/s is bent by ½ a₁ ln²(V/V0),
+    and a protocol file with ``a_slope`` reads back into the same Model."""
+    m = rsf.Model(mu0=0.65, v0=1.0, a=0.013, stiffness=0.065, a_slope=0.002,
+                  states=[rsf.State("slip", b=0.016, dc=2.07)])
+    p = rsf.Protocol(v_init=1.0, segments=[(10.0, {"duration": 30.0})])
+    x = np.log(10.0)
+    bent = rsf.simulate(m, p, dt=0.1, rtol=1e-10, atol=1e-12)["mu"][-1]
+    assert bent == pytest.approx(0.65 + (0.013 - 0.016) * x + 0.001 * x * x, abs=1e-8)
+    with tempfile.TemporaryDirectory() as d:
+        f = os.path.join(d, "p.toml")
+        with open(f, "w") as out:
+            out.write(open(os.path.join(ROOT, "examples", "step_down.toml")).read()
+                      .replace("a = 0.013", "a = 0.013\na_slope = 0.002", 1))
+        assert rsf.load_protocol(f).model.a_slope == 0.002
+    with pytest.raises(ValueError, match="a_slope"):
+        rsf.simulate(rsf.Model(**{**m.__dict__, "eta": 1e-3}), p, dt=0.1)
+
+
 def test_diagnose_equals_the_cli():
     rec = rsf.read_record(BASALT, **COLS)
     py = rsf.diagnose(rec, stiffness=0.0151)

@@ -160,6 +160,7 @@ struct RawModel<W: Wrap> {
     a: W::Of<f64>,
     stiffness: W::Of<f64>,
     eta: Option<W::Of<f64>>,
+    a_slope: Option<W::Of<f64>>,
     form: Option<W::Of<String>>,
     normal_stress: Option<W::Of<f64>>,
     state: Option<Vec<W::Of<RawState<W>>>>,
@@ -297,6 +298,9 @@ fn build<W: Wrap>(
         Model::new(put("mu0", &rm.mu0), put("v0", &rm.v0), put("a", &rm.a), put("stiffness", &rm.stiffness));
     if let Some(eta) = &rm.eta {
         model.eta = put("eta", eta);
+    }
+    if let Some(a_slope) = &rm.a_slope {
+        model.a_slope = put("a_slope", a_slope);
     }
     if let Some(sn) = &rm.normal_stress {
         model.normal_stress = Some(put("normal_stress", sn));

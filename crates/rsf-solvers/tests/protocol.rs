@@ -227,3 +227,33 @@ fn a_run_away_names_the_piece_the_states_and_what_the_protocol_did() {
     }
     assert!(!msg.contains("normal stress") && !msg.contains("normal-stress"), "{msg}");
 }
+
+/// `a_slope` in `[model]` makes the direct effect rate dependent, ∂f/∂ln V = a + a₁ ln(V/V0):
+/// after a step to 10 µm/s (a hundred Dc of slip) friction is at the bent steady state
+/// μ0 + (a − b) X + ½ a₁ X², X = ln(V/V0), which is not the straight one; with radiation damping
+/// it is refused, naming the field.
+#[test]
+fn a_rate_dependent_direct_effect_bends_the_steady_state() {
+    let text = |a_slope: &str, eta: &str| {
+        format!(
+            "[model]\nmu0 = 0.65\nv0 = 1.0\na = 0.013\nstiffness = 0.065\n{a_slope}{eta}\n\
+             [[model.state]]\nlaw = \"slip\"\nb = 0.016\ndc = 2.07\n\n\
+             [loading]\nv_init = 1.0\n\n[[loading.segment]]\nv = 10.0\nduration = 30.0\n\n\
+             [output]\ndt = 0.1\n\n[solver]\nrtol = 1e-10\natol = 1e-12\n"
+        )
+    };
+    let last_mu = |t: &str| {
+        let p = parse(t, None, "p.toml").unwrap();
+        *p.method.solve(&p.problem).unwrap().mu.last().unwrap()
+    };
+    let x = 10f64.ln();
+    let straight = last_mu(&text("", ""));
+    let bent = last_mu(&text("a_slope = 0.002\n", ""));
+    assert!((straight - (0.65 + (0.013 - 0.016) * x)).abs() < 1e-8, "{straight}");
+    assert!((bent - (0.65 + (0.013 - 0.016) * x + 0.5 * 0.002 * x * x)).abs() < 1e-8, "{bent}");
+    let Err(e) = parse(&text("a_slope = 0.002\n", "eta = 1e-3\n"), None, "p.toml") else {
+        panic!("a_slope with radiation damping was accepted")
+    };
+    let e = e.to_string();
+    assert!(e.contains("a_slope") && e.contains("radiation damping"), "{e}");
+}

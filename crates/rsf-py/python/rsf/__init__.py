@@ -22,6 +22,7 @@ diagnosis within one model evaluation. Errors: ``ValueError`` with the CLI's mes
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -155,7 +156,9 @@ class State:
 class Model:
     """A rate-and-state model on a spring: ``mu0``, ``v0`` (µm/s), ``a``, ``stiffness`` k
     (1/µm; ``math.inf`` imposes V = V_lp), the ``states``, radiation damping ``eta`` (friction
-    per µm/s), ``form`` (``"classic"`` or ``"regularized"``) and ``normal_stress`` σ_ref (MPa).
+    per µm/s), ``form`` (``"classic"`` or ``"regularized"``), ``normal_stress`` σ_ref (MPa) and
+    ``a_slope`` a₁, a direct effect that varies with the slip rate: ∂f/∂ln V = a + a₁ ln(V/V0)
+    (classic form, no radiation damping; ``rsf.fit(..., fit_a_slope=True)`` fits it).
     """
     mu0: float
     v0: float
@@ -165,6 +168,7 @@ class Model:
     eta: float = 0.0
     form: str = "classic"
     normal_stress: Optional[float] = None
+    a_slope: float = 0.0
 
 
 @dataclass
@@ -222,8 +226,8 @@ def _to_spec(setup: Setup) -> dict:
         v, spec = (seg["v"], {k: x for k, x in seg.items() if k != "v"}) if isinstance(seg, Mapping) else seg
         segments.append(_fields(v=v, **spec))
     spec = dict(
-        model=_fields(mu0=m.mu0, v0=m.v0, a=m.a, stiffness=m.stiffness, eta=m.eta, form=m.form,
-                      normal_stress=m.normal_stress, state=states),
+        model=_fields(mu0=m.mu0, v0=m.v0, a=m.a, stiffness=m.stiffness, eta=m.eta,
+                      a_slope=m.a_slope or None, form=m.form, normal_stress=m.normal_stress, state=states),
         loading=_fields(v_init=p.v_init, segment=segments or None, record=p.record, time_column=p.time_column,
                         load_point_column=p.load_point_column, friction_column=p.friction_column,
                         normal_stress_column=p.normal_stress_column))
@@ -247,7 +251,8 @@ def load_protocol(path: Union[str, os.PathLike]) -> Setup:
                     params=own(s))
               for s in rm.get("state", [])]
     model = Model(mu0=rm["mu0"], v0=rm["v0"], a=rm["a"], stiffness=rm["stiffness"], states=states,
-                  eta=rm.get("eta", 0.0), form=rm.get("form", "classic"), normal_stress=rm.get("normal_stress"))
+                  eta=rm.get("eta", 0.0), form=rm.get("form", "classic"), normal_stress=rm.get("normal_stress"),
+                  a_slope=rm.get("a_slope", 0.0))
     rl = raw["loading"]
     record = rl.get("record")
     if record is not None and not os.path.isabs(record):
@@ -425,8 +430,7 @@ def simulate(model: Union[Model, Setup, str, os.PathLike], protocol: Optional[Pr
     laws_ = [None if n is not None else s.law for n, s in zip(named, setup.model.states)]
     states = [State(n, s.b, s.dc, s.vc, s.c, s.alpha, s.params) if n is not None else s
               for n, s in zip(named, setup.model.states)]
-    setup = Setup(Model(setup.model.mu0, setup.model.v0, setup.model.a, setup.model.stiffness, states,
-                        setup.model.eta, setup.model.form, setup.model.normal_stress),
+    setup = Setup(dataclasses.replace(setup.model, states=states),
                   setup.protocol, setup.output, setup.solver, setup.initial, setup.source)
     base = os.path.dirname(os.path.abspath(setup.source)) if setup.source else None
     return SimulationResult(_rsf.simulate_spec(_to_spec(setup), base, setup.source or "Python objects", laws=laws_,

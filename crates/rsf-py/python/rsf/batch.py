@@ -20,7 +20,7 @@ from . import _rsf
 #: (the batch-wide defaults a manifest's cells override).
 OPTIONS = ("stiffness", "time_col", "lp_col", "mu_col", "shear_col", "normal_col", "normal_stress",
            "disp_unit", "time_unit", "t_min", "t_max", "law_file", "law", "baseline", "loading", "fit_stiffness",
-           "fit_slip_trend", "drop_invalid", "accept_implausible", "seed")
+           "fit_slip_trend", "fit_a_slope", "drop_invalid", "accept_implausible", "seed")
 
 PathLike = Union[str, os.PathLike]
 
