@@ -146,11 +146,13 @@ fn moments(x: &[f64]) -> (f64, f64) {
 /// (all λ_i equal), so a larger d is the few replicates' variance come out small by chance
 /// (the form test of seed 3 record 106: three of four replicates at 1.9–2.0 made d 9 and put
 /// an observed 20 at 2e-12), and the mean, the better measured moment, then sets the scale.
-/// A degenerate null (every gain 0: its moments say nothing) falls back to the textbook χ²_dk.
+/// A degenerate null (every gain 0 to rounding, [`COLLAPSED_NULL_GAIN`]: its moments say
+/// nothing) falls back to the textbook χ²_dk.
 fn tail(observed: f64, g: &[f64], dk: usize) -> f64 {
     let (mean, var) = moments(g);
     let dk = dk.max(1) as f64;
-    let (c, d) = if mean > 0.0 && var > 0.0 {
+    let scaled = g.iter().any(|&x| x > COLLAPSED_NULL_GAIN);
+    let (c, d) = if scaled && mean > 0.0 && var > 0.0 {
         let d = (2.0 * mean * mean / var).clamp(1e-3, dk);
         (if d < dk { var / (2.0 * mean) } else { mean / dk }, d)
     } else {
@@ -179,6 +181,14 @@ fn bound(observed: f64, null: &[Option<f64>], dk: usize) -> f64 {
 const NULL_STAGES: [(f64, f64, f64); 2] = [(0.25, 1e-4, 100.0), (0.5, 1e-2, 10.0)];
 /// The first stage of the sequential test runs at least this many replicates.
 const NULL_MIN_FIRST_STAGE: usize = 4;
+/// The sequential test stops early on a gain beyond chance only when at least this many
+/// replicates gained (above [`COLLAPSED_NULL_GAIN`]): where a parameter sits at its boundary
+/// (an Aging share w → 0, Vc → 0, b₂ → 0) many replicates collapse onto the baseline, and the
+/// collapsed ones say how often the null is 0, never how large it is when it is not — its scale
+/// needs a mean and a spread of the ones that gained. Seed 2 record 80 of the detection study:
+/// four replicates at 0 to 0.002 put an observed 10.3 at 0; 32 replicates gain 5.2 ± 10.5 and
+/// five of them reach it.
+const NULL_MIN_GAINED: usize = 2;
 
 impl Ctx<'_> {
     /// The null distribution of `c`'s gain: replicates of the baseline plus the fitted noise,
@@ -249,9 +259,11 @@ pub(super) fn sequential(
         gains.extend(par_map(&seeds[gains.len()..upto], opts.threads, &one));
         // beyond chance early only if the bound of the gains' sizes says so too: the clamped
         // gains' moments, from the few replicates that gained, can put the tail far too close
+        let gained = gains.iter().flatten().filter(|&&g| g > COLLAPSED_NULL_GAIN).count();
         let decided = calibrate(observed, &gains, dk).filter(|c| {
             let p = c.false_alarm_probability;
-            (p < below * level && bound(observed, &gains, dk) < below * level) || p > above * level
+            let beyond = p < below * level && bound(observed, &gains, dk) < below * level && gained >= NULL_MIN_GAINED;
+            beyond || p > above * level
         });
         if decided.is_some() {
             return decided;
@@ -284,6 +296,32 @@ mod tests {
         // replicates that gain: the scaled χ² of their moments
         let g = calibrate(41.1, &[Some(1.0), Some(2.5), Some(0.3), Some(1.7), Some(-3.0)], 1).unwrap();
         assert!(g.false_alarm_probability < 1e-3 && g.gain_mean > 0.0 && !g.uninformative);
+    }
+
+    /// Replicates collapsed onto the baseline (a parameter at its boundary) measure how often
+    /// the null is 0, not its scale (seed 2 record 80: an Aging share's four replicates gained
+    /// 0 to 0.002 and put an observed 10.3 at 0): the sequential test draws on until two
+    /// replicates gained; sixteen that all collapse keep the textbook χ² of the parameters.
+    #[test]
+    fn replicates_collapsed_onto_the_baseline_do_not_stop_the_null_early() {
+        let collapsed = [Some(0.0012), Some(0.0002), Some(1e-5), Some(0.0005)];
+        let c = calibrate(10.28, &collapsed, 1).unwrap();
+        let chi1 = ChiSquared::new(1.0).unwrap().sf(10.28);
+        assert!((c.false_alarm_probability / chi1 - 1.0).abs() < 1e-9, "{}", c.false_alarm_probability);
+        let opts = super::super::DiagnoseOptions::new(rsf_fit::fit::FitOptions::new(
+            vec![rsf_laws::law_by_name("slip", |_| None).unwrap()],
+            0.01,
+        ));
+        let seeds: Vec<u64> = (0..opts.null_replicates as u64).map(|b| opts.seed.wrapping_mul(1_000_003) + b).collect();
+        let at = |s: &u64| seeds.iter().position(|x| x == s).unwrap();
+        // the first four collapse, then the replicates gain like a boundary χ²: half at 0
+        let gains = [0.0012, 0.0002, 1e-5, 0.0005, 0.0, 3.1, 0.0, 14.2, 0.0, 0.4, 0.0, 22.0, 0.0, 1.7, 0.0, 6.5];
+        let n = sequential(&opts, 0.01, 10.28, 1, |s| Some(gains[at(s)])).unwrap();
+        assert!(n.replicates > 4 && n.false_alarm_probability > 0.01, "{n:?}");
+        // replicates that gain stop the test at four, as before
+        let four = [0.9, 0.3, 1.4, 0.2];
+        let g = sequential(&opts, 0.01, 41.1, 1, |s| Some(four[at(s).min(3)])).unwrap();
+        assert_eq!(g.replicates, 4);
     }
 
     /// At most dk degrees: replicates that happen to agree (seed 3 record 106's form test:
