@@ -233,12 +233,13 @@ pub(crate) struct DiagnosisArgs {
     /// this seed: the same on any machine, at any load, with any number of threads.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
-    /// Noise replicates of the null calibration (parametric bootstrap under the baseline); 0
-    /// names a cause on ΔBIC alone.
+    /// Noise replicates of the null calibration (parametric bootstrap under the baseline),
+    /// drawn on to four times as many where they leave the verdict open; 0 names a cause on
+    /// ΔBIC alone.
     #[arg(long, default_value_t = rsf_diagnose::NULL_REPLICATES)]
     pub(crate) null_replicates: usize,
     /// A cause is named only when its gain would arise by chance under the baseline with
-    /// probability below this.
+    /// probability below this, also at the 95 % upper limit of the null's scale.
     #[arg(long, default_value_t = rsf_diagnose::FALSE_ALARM_LEVEL)]
     pub(crate) false_alarm_level: f64,
     /// Threads for the independent fits (0: all cores; the result does not depend on it).

@@ -460,17 +460,19 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<()> {
         d.evidence.k_reload_slope.map_or("–".into(), |k| format!("{k:.3e}/µm"))
     );
     out += &format!(
-        "{:24} {:>10} {:>10} {:>10} {:>7} {:>22}  effect\n",
-        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "P(false)", "held-out rms"
+        "{:24} {:>10} {:>10} {:>10} {:>13} {:>22}  effect\n",
+        "candidate", "ΔBIC", "ΔAIC", "rms ratio", "P(false) ≤", "held-out rms"
     );
     for c in &d.candidates {
         out += &format!(
-            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>7} {:>22}  {}\n",
+            "{:24} {:>10.1} {:>10.1} {:>10.4} {:>13} {:>22}  {}\n",
             c.cause,
             c.delta_bic,
             c.delta_aic,
             c.rms_ratio,
-            c.null.as_ref().map_or("–".into(), |n| format!("{:.0e}", n.false_alarm_probability)),
+            c.null
+                .as_ref()
+                .map_or("–".into(), |n| format!("{:.0e} ≤ {:.0e}", n.false_alarm_probability, n.false_alarm_upper)),
             match (c.heldout_rms_before, c.heldout_rms_after) {
                 (Some(b), Some(a)) => format!("{b:.2e} → {a:.2e}"),
                 _ => "–".into(),

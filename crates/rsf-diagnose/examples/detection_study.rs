@@ -157,6 +157,7 @@ fn run(dir: &std::path::Path, m: &Value) -> Value {
                         "sd": n.gain_sd,
                         "replicates": n.replicates,
                         "p": n.false_alarm_probability,
+                        "p_upper": n.false_alarm_upper,
                     })))
                     .collect::<Vec<_>>()
             );

@@ -38,11 +38,12 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
         // the held-out test cannot judge it: the null must, at a stricter level
         let strict = level * BLIND_LEVEL_FACTOR;
         return match &c.null {
-            Some(n) if n.false_alarm_probability < strict => None,
+            Some(n) if n.false_alarm_upper < strict => None,
             Some(n) => Some(format!(
                 "{} predicted the held-out part worse, and its training part cannot see it; its gain arises by \
-                 chance under the record's own noise with probability {:.2e}, not below {strict:.0e}",
-                c.cause, n.false_alarm_probability
+                 chance under the record's own noise with probability {:.2e} (at most {:.2e} as far as {} \
+                 replicates tell), not below {strict:.0e}",
+                c.cause, n.false_alarm_probability, n.false_alarm_upper, n.replicates
             )),
             None => Some(format!(
                 "{} predicted the held-out part worse, and its training part cannot see it; no null calibration \
@@ -70,11 +71,20 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
             c.cause, c.delta_bic, BLIND_DECISIVE
         ))
     } else {
-        c.null.as_ref().filter(|n| !(n.false_alarm_probability < level)).map(|n| {
-            format!(
-                "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates reached it)",
-                c.cause, n.false_alarm_probability, n.exceeded, n.replicates
-            )
+        c.null.as_ref().filter(|n| !(n.false_alarm_upper < level)).map(|n| {
+            if n.false_alarm_probability < level {
+                format!(
+                    "{}'s gain arises by chance under the baseline with probability {:.2e}, but with up to {:.2e} \
+                     as far as {} noise replicates can tell ({} reached it): not surely below {level}",
+                    c.cause, n.false_alarm_probability, n.false_alarm_upper, n.replicates, n.exceeded
+                )
+            } else {
+                format!(
+                    "{}'s gain arises by chance under the baseline with probability {:.2} ({} of {} noise replicates \
+                     reached it)",
+                    c.cause, n.false_alarm_probability, n.exceeded, n.replicates
+                )
+            }
         })
     }
 }

@@ -147,8 +147,8 @@ impl FormTest {
         };
         let chance = self.null.as_ref().map_or(String::new(), |n| {
             format!(
-                ", false-alarm probability {:.1e} ({} of {} replicates reached it)",
-                n.false_alarm_probability, n.exceeded, n.replicates
+                ", false-alarm probability {:.1e} (at most {:.1e}; {} of {} replicates reached it)",
+                n.false_alarm_probability, n.false_alarm_upper, n.exceeded, n.replicates
             )
         });
         if self.misfit {

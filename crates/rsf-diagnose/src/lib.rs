@@ -86,7 +86,7 @@ pub use evidence::{Noisy, noisy};
 pub use form::{FormTest, Reshaping};
 pub use lead::Lead;
 pub use levels::{LevelMisfit, LevelTest, level_test};
-pub use null::{FALSE_ALARM_LEVEL, NULL_REPLICATES, NullCalibration};
+pub use null::{FALSE_ALARM_LEVEL, NULL_EXTENSION, NULL_REPLICATES, NullCalibration};
 pub use quiet::{QuietStretch, QuietTest, quiet_test};
 pub use rsf_noise::{NoiseModel, NoiseStderr, VariableSampling};
 pub use sensitivity::{FitEffect, fit_effect};
@@ -151,9 +151,11 @@ pub struct DiagnoseOptions {
     /// Threads for the independent fits (0: all cores). The result does not depend on it.
     pub threads: usize,
     /// Bootstrap replicates of the null calibration (0: no calibration; a decisive, credible
-    /// candidate is then named on ΔBIC alone).
+    /// candidate is then named on ΔBIC alone), drawn on to [`NULL_EXTENSION`] times as
+    /// many where they leave the verdict open.
     pub null_replicates: usize,
-    /// A cause is named only when its false-alarm probability is below this.
+    /// A cause is named only when its false-alarm probability is below this, also at the upper
+    /// confidence limit of the null's scale ([`NullCalibration::false_alarm_upper`]).
     pub false_alarm_level: f64,
     /// Leave out the samples that a noisy load point's break-time uncertainty makes
     /// unpredictable ([`TimingMask`]).

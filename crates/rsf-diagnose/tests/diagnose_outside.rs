@@ -87,9 +87,13 @@ fn a_law_outside_the_library_is_unexplained() {
 
 /// A rate-dependent direct effect a + a1 ln(V/V0) (a law no library has), steps of 0.5–2
 /// decades each ~5 Dc long: too short for the event test's quiet placebos (its events
-/// untestable). The best extension, a cut-off, leaves each segment's level off across the steps
-/// (the truth's steady state bends in ln V): the level test finds it, so no cause is named —
-/// `unexplained`, the cut-off as the best partial extension. (Record 23 of the `--outside` study,
+/// untestable). No extension is credible (an Aging–Slip law, ΔBIC −785, predicts the held-out
+/// part worse; a cut-off's gain is beyond chance at 1.4e-3 but not at the bound of its null's
+/// scale, 1.2e-2, after 64 replicates), and the baseline leaves each segment's level off across
+/// the steps (the truth's steady state bends in ln V): the level test finds it, so no cause is
+/// named — `unexplained`, the best decisive extension reported as the partial one (while the
+/// cut-off's null was taken at its estimate, the cut-off was named and its own levels failed the
+/// same way). (Record 23 of the `--outside` study,
 /// `tests/data/outside/SOURCE.md`. Before issue 38: `cutoff_velocity`, a confident wrong cause;
 /// before the level test joined the verdict, `unexplained` through the disagreement of the
 /// record's parts, whose rule `decide.rs` tests on its own.)
@@ -100,7 +104,7 @@ fn an_untestable_record_whose_levels_are_off_names_no_cause() {
     assert!(d.adequacy.levels.inadequate(), "p {} excess {}", d.adequacy.levels.p_value, d.adequacy.levels.excess);
     assert_eq!(d.adequacy.verdict, AdequacyVerdict::Inadequate);
     assert_eq!(d.cause, Cause::Unexplained, "{}", d.reason);
-    assert_eq!(d.partial, Some(Cause::CutoffVelocity));
+    assert!(d.partial.is_some(), "the best partial extension is reported");
     assert!(d.reason.starts_with("not explained"), "{}", d.reason);
     assert!(d.reason.contains("wrong level"), "{}", d.reason);
 }

@@ -312,7 +312,13 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
                     held[n + i].clone(),
                     format!("<l>{}", if c.at_bound.is_empty() { "–".into() } else { esc(&c.at_bound.join(", ")) }),
                     c.null.as_ref().map_or("–".into(), |n| {
-                        format!("{} ({}/{})", fmt_num(n.false_alarm_probability, 2), n.exceeded, n.replicates)
+                        format!(
+                            "{} ≤ {} ({}/{})",
+                            fmt_num(n.false_alarm_probability, 2),
+                            fmt_num(n.false_alarm_upper, 2),
+                            n.exceeded,
+                            n.replicates
+                        )
                     }),
                     format!("<l>{}", effect_summary(&c.effect)),
                 ],
@@ -328,7 +334,7 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
         "held-out rms, baseline",
         "held-out rms, extended",
         "<l>at bound",
-        "P(false alarm) (replicates reaching it)",
+        "P(false alarm) ≤ bound (replicates reaching it / drawn)",
         "<l>effect",
     ];
     format!(
@@ -337,7 +343,8 @@ pub(super) fn candidates(d: &Diagnosis) -> String {
          cannot tell apart). A candidate is named only if it is also credible: \
          held-out rms at most 5 % worse than the baseline's, no parameter run to a bound, and a gain that \
          noise replicates of the baseline reach with probability below the false-alarm level (1 % by \
-         default).</p>{}\
+         default), also at the bound: the probability where the null's scale is at its 95 % upper limit, \
+         as far as the replicates drawn can tell it.</p>{}\
          <p class=\"note\">The diagnosis engine's reason: {}</p>\n",
         fmt_num(DECISIVE, 3),
         table("wide", &head, &rows),

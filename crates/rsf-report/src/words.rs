@@ -461,11 +461,12 @@ pub fn verdict(d: &Diagnosis) -> String {
             "decisive (ΔBIC < {} with {n_eff}){}",
             fmt_num(DECISIVE, 3),
             null.map_or(String::new(), |n| format!(
-                ", and a gain this large arises by chance under the baseline with probability {} ({} of {} noise \
-                 replicates reached it)",
+                ", and a gain this large arises by chance under the baseline with probability {} (at most {} as \
+                 far as {} noise replicates can tell; {} reached it)",
                 fmt_num(n.false_alarm_probability, 2),
-                n.exceeded,
-                n.replicates
+                fmt_num(n.false_alarm_upper, 2),
+                n.replicates,
+                n.exceeded
             ))
         )
     } else {
