@@ -88,7 +88,7 @@ pub struct NullCalibration {
     /// P(G ≥ observed) under the fitted null: the share of replicates that gained times the
     /// upper tail of the scaled chi-square c·χ²_d fitted to them.
     pub false_alarm_probability: f64,
-    /// The same at the upper confidence limit ([`NULL_SCALE_CONFIDENCE`]) of the scale c, as
+    /// The same at the 95 % upper confidence limit of the scale c, as
     /// far as the replicates drawn can tell it: a cause is named only where this is below the
     /// level.
     pub false_alarm_upper: f64,
