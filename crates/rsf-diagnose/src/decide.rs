@@ -89,6 +89,26 @@ pub(super) fn ineligible(c: &Candidate, level: f64) -> Option<String> {
     }
 }
 
+/// A candidate set aside only because its fit did not converge (LM stopped on its iteration
+/// limit or a budget) that already scores better than the cause chosen: it predicts the
+/// held-out part as well as the baseline, and its ΔBIC, measured at the best point found, is an
+/// upper bound on its optimum's. The model chosen is then beaten on the record by one whose
+/// optimum is unknown, and is no longer the best explanation on the menu: the record is
+/// `undecided` between them. (One scoring worse stays no rival, as before: a fit that does not
+/// converge can be running off to a degenerate limit, as a cut-off whose Vc runs off above
+/// 10⁵ µm/s does within 10 of Nagata's law on record 17 of the `--outside` study's seed 39.)
+/// The detection study's seed 5 record 54, a slip trend of g 1e-7/µm on a gouge staircase: the
+/// trend's fit exhausted its step budget at ΔBIC −33.4 (g 7.2e-8), and a Slip–Aging mixture at
+/// −12.6 was named.
+pub(super) fn unconverged_rival<'a>(chosen: &Candidate, candidates: &'a [Candidate]) -> Option<&'a Candidate> {
+    candidates
+        .iter()
+        .filter(|c| c.cause != chosen.cause && !c.converged && c.fit.is_some())
+        .filter(|c| c.delta_bic < super::DECISIVE && c.delta_bic < chosen.delta_bic)
+        .filter(|c| heldout_ok(c.heldout_rms_before, c.heldout_rms_after))
+        .min_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic))
+}
+
 /// The held-out test passes when the extension predicts no more than 5% worse; it fails when
 /// the extension's training fit fails where the baseline's did not (an extension the training
 /// part cannot pin down is the overfitting the test is there to catch). A candidate whose

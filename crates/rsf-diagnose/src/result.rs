@@ -237,8 +237,9 @@ pub struct Diagnosis {
     pub runner_up: Option<(Cause, f64)>,
     /// For `undecided`: the two causes the record does not tell apart (both decisive and
     /// credible, within [`super::UNDECIDED_DBIC`], or, the model chosen untestable, with a lead that
-    /// does not hold by [`Diagnosis::lead`]), the better-scoring first, with their ΔBIC.
-    /// Empty otherwise.
+    /// does not hold by [`Diagnosis::lead`], or a rival set aside only because its fit did not
+    /// converge that scores better than the one chosen), the one chosen first (whose fit, gain
+    /// and effect the diagnosis gives), with their ΔBIC. Empty otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub undecided: Vec<(Cause, f64)>,
     /// The lead of the cause chosen over the best other credible, decisive candidate against

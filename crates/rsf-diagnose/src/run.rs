@@ -6,7 +6,7 @@ use super::baseline::{baseline, continued};
 use super::candidate::{Ctx, FullFit, rescore};
 use super::cause::Cause;
 use super::combination::secondary;
-use super::decide::{ineligible, judge_adequacy, pair_words, verdict};
+use super::decide::{ineligible, judge_adequacy, pair_words, unconverged_rival, verdict};
 use super::events::{dc_consistency, event_windows, fit_event};
 use super::evidence::{evidence, noisy, reload_stiffness};
 use super::form::form_test;
@@ -377,30 +377,47 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         AdequacyVerdict::Untestable => true,
         AdequacyVerdict::Adequate | AdequacyVerdict::Inadequate => false,
     };
-    let undecided: Vec<(Cause, f64)> = match (chosen, rival) {
+    let close = match (chosen, rival) {
         (Some(c1), Some(c2))
             if c2.delta_bic - c1.delta_bic < super::UNDECIDED_DBIC
                 || (lead_decides && lead.is_some_and(|l| !l.holds(level))) =>
         {
-            vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]
+            Some((c1, c2))
         }
-        _ => vec![],
+        _ => None,
     };
+    // else a rival set aside only because its fit did not converge that scores better than the
+    // one chosen even at a point short of its optimum (`decide.rs`)
+    let unconverged = match (chosen, close) {
+        (Some(c1), None) if secondary.is_none() && v.cause == c1.cause => {
+            unconverged_rival(c1, &candidates).map(|c2| (c1, c2))
+        }
+        _ => None,
+    };
+    let undecided: Vec<(Cause, f64)> =
+        close.or(unconverged).map_or(vec![], |(c1, c2)| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]);
     if let [(a, da), (b, db)] = undecided[..] {
         v.cause = Cause::Undecided;
         v.partial = Some(a);
+        let why = match (unconverged, lead) {
+            (Some(_), _) => format!(
+                "{b} scores better at a point short of its optimum (its fit did not converge; a fit of its model run \
+                 longer, `rsf fit … --max-iter`, finds that optimum), and its optimum scores at least as well"
+            ),
+            (None, Some(l)) if db - da >= super::UNDECIDED_DBIC => format!(
+                "both explain the record better than the baseline, and, with nothing to test {a}'s model against \
+                 the noise, its lead is within what the noise makes between two such models ({:.1} in ln L, {:.2} \
+                 times its chance spread, chance {:.2})",
+                l.lead, l.z, l.p
+            ),
+            (None, _) => format!(
+                "both explain the record better than the baseline, within {} of each other",
+                super::UNDECIDED_DBIC
+            ),
+        };
         v.reason = format!(
-            "undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): both explain the record better than the \
-             baseline, {}, so the record does not tell which it needs{}; rsf design plans the experiment that \
-             does (before: {})",
-            match lead {
-                Some(l) if db - da >= super::UNDECIDED_DBIC => format!(
-                    "and, with nothing to test {a}'s model against the noise, its lead is within what the noise \
-                     makes between two such models ({:.1} in ln L, {:.2} times its chance spread, chance {:.2})",
-                    l.lead, l.z, l.p
-                ),
-                _ => format!("within {} of each other", super::UNDECIDED_DBIC),
-            },
+            "undecided between {a} (ΔBIC {da:.1}) and {b} (ΔBIC {db:.1}): {why}, so the record does not tell which \
+             it needs{}; rsf design plans the experiment that does (before: {})",
             pair_words(a, b),
             v.reason
         );

@@ -371,7 +371,12 @@ pub fn verdict(d: &Diagnosis) -> String {
     }
     if let (Cause::Undecided, [(a, da), (b, db)]) = (d.cause, &d.undecided[..]) {
         // within the fixed margin, or further with a lead the noise could reverse (`lead.rs`)
+        // the second set aside only because its fit did not converge (`decide::unconverged_rival`)
+        let unconverged = d.candidates.iter().any(|c| c.cause == *b && !c.converged);
         let apart = match d.lead {
+            _ if unconverged => "the second scoring better at a point short of its optimum (its fit did not \
+                                 converge), and its optimum at least as well"
+                .to_string(),
             Some(l) if db - da >= rsf_diagnose::UNDECIDED_DBIC => format!(
                 "apart by more than the margin of {} but, with no event to test the better one's model against the \
                  noise, with predictions so alike that its lead, {} in ln L, is {} times the spread the noise alone \
@@ -387,9 +392,10 @@ pub fn verdict(d: &Diagnosis) -> String {
                 fmt_num(-DECISIVE, 2)
             ),
         };
+        let shown = if unconverged { "first" } else { "better" };
         let s = format!(
             "The record needs more than the {baseline}, but it does not tell which of two extensions: {} \
-             (ΔBIC = {}) or {} (ΔBIC = {}), {apart}. No cause is named; the fit shown is the better one's, {}. \
+             (ΔBIC = {}) or {} (ΔBIC = {}), {apart}. No cause is named; the fit shown is the {shown} one's, {}. \
              rsf design plans the experiment that tells them apart.",
             cause_words(*a),
             fmt_num(*da, 3),
