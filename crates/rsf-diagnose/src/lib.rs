@@ -95,7 +95,7 @@ pub use reconstruction::{
     RECORD_MEDIAN_TOLERANCE, RESOLVED_SEGMENT_RATIO, Reconstruction, Remedy, SHORT_SEGMENT_SAMPLES,
     SUSPECT_SEGMENT_RATIO,
 };
-pub use result::{Alternative, Candidate, Diagnosis, Disagreement, Evidence, Gain, NoiseDrift, Secondary};
+pub use result::{Alternative, Apart, Candidate, Diagnosis, Disagreement, Evidence, Gain, NoiseDrift, Secondary};
 pub use rsf_noise::whiten;
 pub use rule::{
     ADEQUACY_EXCESS, ADEQUACY_EXCESS_LARGE, ADEQUACY_LEVEL, ADEQUACY_LEVEL_LARGE, AdequacyVerdict, Family, PLACEBOS,

@@ -242,6 +242,9 @@ pub struct Diagnosis {
     /// and effect the diagnosis gives), with their ΔBIC. Empty otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub undecided: Vec<(Cause, f64)>,
+    /// For `undecided`: why the record does not tell the two apart ([`Apart`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub apart: Option<Apart>,
     /// The lead of the cause chosen over the best other credible, decisive candidate against
     /// its chance spread (`lead.rs`), when there is one: where the model chosen could not be tested
     /// against the noise, a lead that does not hold at the false-alarm level leaves the verdict
@@ -284,6 +287,26 @@ pub struct Diagnosis {
     #[serde(skip)]
     pub baseline_options: Option<FitOptions>,
 }
+
+/// Why a record is `undecided` between two causes ([`Diagnosis::undecided`]): decided once, in
+/// the diagnosis, and put in words by each edge (the reason, the report).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Apart {
+    /// Both decisive and credible, within [`super::UNDECIDED_DBIC`] of each other.
+    Margin,
+    /// Further apart, but the model chosen could not be tested against the noise and its lead
+    /// does not hold at the false-alarm level ([`Diagnosis::lead`]).
+    Lead,
+    /// The second, set aside only because its fit did not converge, scores better than the one
+    /// chosen even at a point short of its optimum.
+    Unconverged,
+}
+
+rsf_core::vocabulary!(Apart, "undecided reason", {
+    Margin => "margin",
+    Lead => "lead",
+    Unconverged => "unconverged",
+});
 
 /// How much slow drift a record's residuals carry (the noise model's power-law part).
 #[derive(Clone, Debug, Serialize)]

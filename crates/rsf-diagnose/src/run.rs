@@ -14,7 +14,7 @@ use super::heldout::{heldout, sigma_first_changes_after, split_time};
 use super::rule::{AdequacyVerdict, Family};
 use super::starts::slip_rate_range;
 use super::timing::{load_point_sigma, timing_mask};
-use super::{Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
+use super::{Apart, Candidate, DECISIVE, DiagnoseOptions, Diagnosis, EventFit};
 use rsf_fit::data::{Record, isolated_spikes};
 use rsf_fit::fit::{BinMeans, FitError, FitOptions, FitResult, LoadingMode, Prepared, Weighting, fit, prepare};
 use rsf_fit::parallel::par_map;
@@ -396,21 +396,27 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
     };
     let undecided: Vec<(Cause, f64)> =
         close.or(unconverged).map_or(vec![], |(c1, c2)| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]);
-    if let [(a, da), (b, db)] = undecided[..] {
+    let apart = match (&undecided[..], unconverged, lead) {
+        ([], _, _) => None,
+        (_, Some(_), _) => Some(Apart::Unconverged),
+        ([(_, da), (_, db)], None, Some(_)) if db - da >= super::UNDECIDED_DBIC => Some(Apart::Lead),
+        (_, None, _) => Some(Apart::Margin),
+    };
+    if let (&[(a, da), (b, db)], Some(apart)) = (&undecided[..], apart) {
         v.cause = Cause::Undecided;
         v.partial = Some(a);
-        let why = match (unconverged, lead) {
-            (Some(_), _) => format!(
+        let why = match (apart, lead) {
+            (Apart::Unconverged, _) => format!(
                 "{b} scores better at a point short of its optimum (its fit did not converge; a fit of its model run \
                  longer, `rsf fit … --max-iter`, finds that optimum), and its optimum scores at least as well"
             ),
-            (None, Some(l)) if db - da >= super::UNDECIDED_DBIC => format!(
+            (Apart::Lead, Some(l)) => format!(
                 "both explain the record better than the baseline, and, with nothing to test {a}'s model against \
                  the noise, its lead is within what the noise makes between two such models ({:.1} in ln L, {:.2} \
                  times its chance spread, chance {:.2})",
                 l.lead, l.z, l.p
             ),
-            (None, _) => format!(
+            (Apart::Margin | Apart::Lead, _) => format!(
                 "both explain the record better than the baseline, within {} of each other",
                 super::UNDECIDED_DBIC
             ),
@@ -453,6 +459,7 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         disagreement,
         runner_up,
         undecided,
+        apart,
         lead,
         unfitted_causes,
         noise_drift,

@@ -32,4 +32,6 @@ fn a_cause_beaten_by_a_rival_that_did_not_converge_is_not_named() {
     assert_eq!(rival.0, Cause::SlipTrend, "{:?}", d.undecided);
     assert!(rival.1 < chosen.1, "{:?}", d.undecided);
     assert!(d.reason.contains("did not converge"), "{}", d.reason);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Unconverged));
+    assert_eq!(serde_json::to_value(&d).unwrap()["apart"], "unconverged");
 }

@@ -46,8 +46,10 @@ fn two_causes_the_record_cannot_tell_apart_are_not_named() {
     assert_eq!(d.partial, Some(Cause::SlipTrend));
     assert!(d.gain.is_some() && d.extended.is_some());
     assert!(d.reason.starts_with("undecided between slip_trend"), "{}", d.reason);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Margin));
     let json = serde_json::to_value(&d).unwrap();
     assert_eq!(json["cause"], "undecided");
+    assert_eq!(json["apart"], "margin");
 }
 
 /// The lead decides only where the model chosen could not be tested against the noise

@@ -15,7 +15,9 @@
 //! | `state_space.rs` | that model as a state-space process: exact likelihood, whitening, replicates |
 //! | `timed.rs` | the model at a record's sample times: which of the two forms applies |
 //! | `kernel.rs` | Σx, the model's covariance in time applied to a vector |
+//! | `fft.rs` | FFT plans reused on a thread |
 
+mod fft;
 mod kernel;
 mod noise;
 mod sampling;

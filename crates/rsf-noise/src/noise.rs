@@ -24,7 +24,6 @@
 //! time: `sampling.rs` ([`NoiseModel::fit_at`] chooses, in `timed.rs`).
 
 use rand_distr::{Distribution, StandardNormal};
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 use serde::Serialize;
 
@@ -317,7 +316,7 @@ impl NoiseModel {
                 buf[m - j] = c.conj();
             }
         }
-        FftPlanner::new().plan_fft_inverse(m).process(&mut buf);
+        super::fft::plan(m, rustfft::FftDirection::Inverse).process(&mut buf);
         buf[..n].iter().map(|c| c.re / m as f64).collect()
     }
 }

@@ -3,7 +3,6 @@
 //! amplitudes by scoring, their standard errors, and the small linear algebra they need. Shared
 //! by the noise model in sample index (`noise.rs`) and in time (`sampling.rs`).
 
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 
 /// Whittle scoring iterations per grid point (converged to < 1e-6 in the amplitudes well before).
@@ -22,7 +21,7 @@ pub(super) fn periodogram(r: &[f64]) -> Vec<f64> {
     let n = r.len();
     let mean = r.iter().sum::<f64>() / n as f64;
     let mut buf: Vec<Complex<f64>> = r.iter().map(|x| Complex::new(x - mean, 0.0)).collect();
-    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    super::fft::plan(n, rustfft::FftDirection::Forward).process(&mut buf);
     (1..=n / 2).map(|j| buf[j].norm_sqr() / n as f64).collect()
 }
 

@@ -1,7 +1,9 @@
 //! The diagnosis in words: the verdict paragraph, and parameters with names, units and errors.
 
 use super::esc;
-use rsf_diagnose::{AdequacyTest, Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence};
+use rsf_diagnose::{
+    AdequacyTest, Apart, Cause, DECISIVE, Diagnosis, Effect, EffectEntry, EffectKey, EffectValue, Evidence,
+};
 use rsf_fit::fit::{FitResult, ParamName};
 use rsf_plot::{fmt_num, fmt_pair, fmt_value, fmt_with_err};
 
@@ -370,14 +372,18 @@ pub fn verdict(d: &Diagnosis) -> String {
         return esc(&s);
     }
     if let (Cause::Undecided, [(a, da), (b, db)]) = (d.cause, &d.undecided[..]) {
-        // within the fixed margin, or further with a lead the noise could reverse (`lead.rs`)
-        // the second set aside only because its fit did not converge (`decide::unconverged_rival`)
-        let unconverged = d.candidates.iter().any(|c| c.cause == *b && !c.converged);
-        let apart = match d.lead {
-            _ if unconverged => "the second scoring better at a point short of its optimum (its fit did not \
-                                 converge), and its optimum at least as well"
+        let margin = || {
+            format!(
+                "within {} of each other, where a difference of {} would be decisive",
+                fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
+                fmt_num(-DECISIVE, 2)
+            )
+        };
+        let apart = match (d.apart, d.lead) {
+            (Some(Apart::Unconverged), _) => "the second scoring better at a point short of its optimum (its fit did \
+                                              not converge), and its optimum at least as well"
                 .to_string(),
-            Some(l) if db - da >= rsf_diagnose::UNDECIDED_DBIC => format!(
+            (Some(Apart::Lead), Some(l)) => format!(
                 "apart by more than the margin of {} but, with no event to test the better one's model against the \
                  noise, with predictions so alike that its lead, {} in ln L, is {} times the spread the noise alone \
                  gives it (chance {}): another draw of the noise could reverse it",
@@ -386,13 +392,12 @@ pub fn verdict(d: &Diagnosis) -> String {
                 fmt_num(l.z, 2),
                 fmt_num(l.p, 2)
             ),
-            _ => format!(
-                "within {} of each other, where a difference of {} would be decisive",
-                fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
-                fmt_num(-DECISIVE, 2)
-            ),
+            (Some(Apart::Margin | Apart::Lead) | None, _) => margin(),
         };
-        let shown = if unconverged { "first" } else { "better" };
+        let shown = match d.apart {
+            Some(Apart::Unconverged) => "first",
+            Some(Apart::Margin | Apart::Lead) | None => "better",
+        };
         let s = format!(
             "The record needs more than the {baseline}, but it does not tell which of two extensions: {} \
              (ΔBIC = {}) or {} (ΔBIC = {}), {apart}. No cause is named; the fit shown is the {shown} one's, {}. \

@@ -172,6 +172,7 @@ fn diagnosed_record(rel: &str, k: f64) -> rsf_diagnose::Diagnosis {
 fn an_undecided_verdict_names_both_and_neither() {
     let d = diagnosed_record("detection/second_state_or_trend.csv", 0.03275739878830749);
     assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Margin));
     let html = diagnosis_html(&d, "undecided");
     let verdict = verdict_text(&html);
     for words in
@@ -198,6 +199,7 @@ fn long_floats_are_caught() {
 fn a_lead_the_noise_could_reverse_is_said_so() {
     let d = diagnosed_record("outside/power_aging_or_cutoff.csv", 0.03530547554472882);
     assert_eq!(d.cause.as_str(), "undecided", "{}", d.reason);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Lead));
     let html = diagnosis_html(&d, "undecided by its lead");
     let verdict = verdict_text(&html);
     for words in ["does not tell which of two extensions", "more than the margin", "another draw of the noise"] {
@@ -205,6 +207,25 @@ fn a_lead_the_noise_could_reverse_is_said_so() {
     }
     assert!(!verdict.contains("within 10 of each other"), "{verdict}");
     assert!(long_floats(&(visible(&html) + &chart_text(&html))).is_empty());
+}
+
+/// `undecided` beside a better-scoring rival whose fit did not converge (a slip trend whose fit
+/// ran out of budget, tests/data/detection/unconverged_rival_slip_trend.csv): the verdict says
+/// so, and that the fit shown is the one chosen first, not the better-scoring one.
+#[test]
+fn a_rival_that_did_not_converge_is_said_so() {
+    let d = diagnosed_record("detection/unconverged_rival_slip_trend.csv", 0.004560632516018635);
+    if d.apart != Some(rsf_diagnose::Apart::Unconverged) {
+        // a fit that reaches the trend's optimum names it (`diagnose_unconverged.rs`)
+        assert_eq!(d.cause.as_str(), "slip_trend", "{}", d.reason);
+        return;
+    }
+    let html = diagnosis_html(&d, "undecided beside a rival that did not converge");
+    let verdict = verdict_text(&html);
+    for words in ["does not tell which of two extensions", "its fit did not converge", "the first one's"] {
+        assert!(verdict.contains(words), "{words}: {verdict}");
+    }
+    assert!(!verdict.contains("within 10 of each other"), "{verdict}");
 }
 
 /// `unexplained` where no cause was chosen (a rate-dependent direct effect that no candidate

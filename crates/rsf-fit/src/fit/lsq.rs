@@ -1,7 +1,7 @@
 //! Starting points and Levenberg–Marquardt under the work budget: [`fit`].
 
 use super::covariance::{covariance, covariance_under, intervals};
-use super::forward::{AtSamples, evaluate, model_at_samples};
+use super::forward::{AtSamples, Evaluated, evaluate, model_at_samples};
 use super::params::within_bounds;
 use super::{
     AlphaFit, BudgetHit, Curve, FitError, FitOptions, FitResult, NoiseSummary, ParamMap, ParamName, Params, Prepared,
@@ -11,7 +11,7 @@ use crate::lm::{self, Eval};
 use rsf_core::state_offset;
 use rsf_noise::NoiseModel;
 use rsf_solvers::SolveError;
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::collections::BTreeMap;
 
 /// Fits the model to the prepared record: Levenberg–Marquardt from several starting points
@@ -43,6 +43,8 @@ struct Searched {
     /// Starts whose search failed (a forward solve that ran away, a budget before the first
     /// evaluation).
     starts_failed: usize,
+    /// The best start's evaluation at its optimum, when it kept one.
+    at_best: Option<AtBest>,
 }
 
 /// One start's Levenberg–Marquardt run under its allowance of integrator steps.
@@ -54,13 +56,28 @@ struct StartRun {
     hit: Option<BudgetHit>,
     /// The steps it was allowed.
     allowance: u64,
+    /// Its evaluation at full accuracy of the smallest sum of squares (the point it stopped
+    /// at, [`AtBest`]).
+    at_best: Option<AtBest>,
 }
 
 impl StartRun {
     /// What is left in a slot whose run has been taken.
     fn placeholder() -> Self {
-        Self { result: Err(SolveError::Input("taken".into())), steps: 0, hit: None, allowance: 0 }
+        Self { result: Err(SolveError::Input("taken".into())), steps: 0, hit: None, allowance: 0, at_best: None }
     }
+}
+
+/// A search's evaluation at full accuracy (`opts.rtol`) with the smallest sum of squares, and
+/// where it was made. Levenberg–Marquardt accepts a step only when it lowers the sum of
+/// squares of full-accuracy evaluations, so this is the evaluation at the point the search
+/// stops at: [`report`] takes its curve and Jacobian instead of solving the same problem again
+/// (one sensitivity solve per fit; the Vc profile's grid points are fits of eight iterations).
+/// It is used only when its point is bit for bit the optimum's, so the result is the same.
+struct AtBest {
+    theta: Vec<f64>,
+    ssr: f64,
+    eval: Evaluated,
 }
 
 /// Levenberg–Marquardt from several starting points on the points of `p`. The later starts
@@ -79,6 +96,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let run_start = |start: &[f64], allowance: u64, convergence: &lm::Convergence| -> StartRun {
         let used = Cell::new(0u64);
         let hit = Cell::new(None::<BudgetHit>);
+        let at_best = RefCell::new(None::<AtBest>);
         let objective = |theta: &[f64], accuracy: lm::Accuracy| -> Result<Eval, SolveError> {
             if opts.cancelled() {
                 return Err(SolveError::Input("cancelled".into()));
@@ -95,17 +113,24 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 lm::Accuracy::Fine => opts.rtol,
                 lm::Accuracy::Coarse => opts.search.coarse_rtol.unwrap_or(opts.rtol),
             };
-            let e = evaluate(p, &map, opts, theta, rtol)?;
+            let mut e = evaluate(p, &map, opts, theta, rtol)?;
             used.set(used.get() + e.steps);
-            let r = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
-            let mut j = e.raw_j;
+            let r: Vec<f64> = e.model_mu.iter().zip(&data).zip(&p.weights).map(|((mo, d), w)| w * (mo - d)).collect();
+            // kept when it is the smallest sum of squares at full accuracy so far (summed as
+            // the search sums it, so the same value decides)
+            let ssr = (accuracy == lm::Accuracy::Fine).then(|| r.iter().map(|x| x * x).sum::<f64>());
+            let keep = ssr.filter(|s| at_best.borrow().as_ref().is_none_or(|b| *s < b.ssr));
+            let mut j = if keep.is_some() { e.raw_j.clone() } else { std::mem::take(&mut e.raw_j) };
             for (row, w) in j.chunks_mut(m.max(1)).zip(&p.weights) {
                 row.iter_mut().for_each(|x| *x *= w);
+            }
+            if let Some(ssr) = keep {
+                *at_best.borrow_mut() = Some(AtBest { theta: theta.to_vec(), ssr, eval: e });
             }
             Ok(Eval { r, j })
         };
         let result = lm::minimize_in(start, &bounds, &objective, convergence);
-        StartRun { result, steps: used.get(), hit: hit.get(), allowance }
+        StartRun { result, steps: used.get(), hit: hit.get(), allowance, at_best: at_best.into_inner() }
     };
     // starting points: the data-derived guess, then Dc and a scaled
     let theta0 = map.theta_of(&map.base);
@@ -185,6 +210,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
     let convergence = opts.search.convergence(opts.max_iter, scale);
     let budget = opts.budget.steps;
     let mut best: Option<lm::LmResult> = None;
+    let mut at_best = None;
     // the budget that stopped the best start, if one did: not converged, and said so
     let mut best_hit = None;
     let mut first_err = None;
@@ -236,6 +262,7 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 if best.as_ref().is_none_or(|b| r.ssr < b.ssr) {
                     best_hit = run.hit;
                     best = Some(r);
+                    at_best = run.at_best;
                 }
             }
             Err(e) => {
@@ -253,16 +280,23 @@ fn search(p: &Prepared, opts: &FitOptions) -> Result<Searched, FitError> {
                 .unwrap_or_else(|| SolveError::Input("the step budget ran out before the first evaluation".into())),
         ));
     };
-    Ok(Searched { map, best, best_hit, steps: before, starts: starts.len(), starts_failed: failed })
+    Ok(Searched { map, best, best_hit, steps: before, starts: starts.len(), starts_failed: failed, at_best })
 }
 
 /// The fit's result at the optimum `s`, evaluated on the points of `p`: curve, residuals,
 /// covariance, likelihood. When the search ran on the bin means `searched` of `p`, the
 /// covariance is theirs (they carry the samples' information, `bins.rs`) and the curve and
 /// residuals come from one plain solve at the samples: their sensitivities would cost m + 1
-/// times the output of the curve for nothing the result needs.
+/// times the output of the curve for nothing the result needs. The Jacobian (and, on every
+/// sample, the curve) is the search's own evaluation at the optimum ([`AtBest`]) when it kept
+/// one.
 fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searched) -> Result<FitResult, FitError> {
-    let Searched { map, best, best_hit, steps, starts, starts_failed } = s;
+    let Searched { map, best, best_hit, steps, starts, starts_failed, at_best } = s;
+    // the search's own evaluation at the optimum, or the same solve again
+    let at_optimum = |on: &Prepared| match at_best.filter(|b| b.theta == best.theta) {
+        Some(b) => Ok(b.eval),
+        None => evaluate(on, &map, opts, &best.theta, opts.rtol),
+    };
     let m = map.free.len();
     let data: Vec<f64> = p.used.iter().map(|&i| p.record.mu[i]).collect();
     let full = map.full(&best.theta);
@@ -270,7 +304,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
     // points that carry it
     let (model_mu, slip_rate, raw_j, points, steps) = match searched {
         Some(pb) => {
-            let eb = evaluate(pb, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
+            let eb = at_optimum(pb).map_err(FitError::Start)?;
             // (where the plain solver fails, the sensitivity solver's curve serves)
             let c = model_at_samples(p, &map, opts, &full).or_else(|_| {
                 evaluate(p, &map, opts, &best.theta, opts.rtol).map(|e| AtSamples {
@@ -284,7 +318,7 @@ fn report(p: &Prepared, searched: Option<&Prepared>, opts: &FitOptions, s: Searc
             (c.mu, c.slip_rate, eb.raw_j, pb, steps + eb.steps + c.steps)
         }
         None => {
-            let e = evaluate(p, &map, opts, &best.theta, opts.rtol).map_err(FitError::Start)?;
+            let e = at_optimum(p).map_err(FitError::Start)?;
             let v = model_at_samples(p, &map, opts, &full).map(|c| c.slip_rate).unwrap_or_default();
             (e.model_mu, v, e.raw_j, p, steps + e.steps)
         }
@@ -441,3 +475,7 @@ fn residual_noise(p: &Prepared, resid: &[f64]) -> Option<NoiseModel> {
 /// Fewer residuals than this give no noise model (its spectrum needs a few dozen Fourier
 /// ordinates per part): the white form is reported.
 const MIN_NOISE_POINTS: usize = 64;
+
+#[cfg(test)]
+#[path = "lsq_tests.rs"]
+mod tests;
