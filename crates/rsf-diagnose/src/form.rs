@@ -113,6 +113,32 @@ impl FormTest {
         self.misfit
     }
 
+    /// Whether a rival's law, reshaped, explains the record decisively better than the model
+    /// named (ΔBIC below [`DECISIVE`], the evidence every extension must show), by no more than
+    /// chance under the model named: a model without the cause named then does as well as the
+    /// model with it, and the record does not tell which it needs (`undecided`,
+    /// [`super::Apart::Form`]). Seed 40 record 13 of the `--outside` study (power-law aging
+    /// under 1/f noise): the Aging–Slip law reshaped gained ΔBIC −168 over the cut-off named,
+    /// within what its replicates reach (false-alarm probability 0.06), and the cut-off was named.
+    pub fn rival_does_as_well(&self) -> bool {
+        !self.named && !self.misfit && self.delta_bic < DECISIVE
+    }
+
+    /// Why the record is `undecided` between the cause `named` and the `rival` whose law,
+    /// reshaped, does as well ([`FormTest::rival_does_as_well`]), in words.
+    pub(super) fn as_well_words(&self, named: Cause, rival: Cause) -> String {
+        let chance = self
+            .null
+            .as_ref()
+            .map_or(String::new(), |n| format!(" (false-alarm probability {:.1e})", n.false_alarm_probability));
+        format!(
+            "{rival}'s law ({}) read at a reshaped state explains the record better than {named}'s model (ΔBIC {:.1}), \
+             by no more than the record's noise gives it{chance}: a model without {named} does as well",
+            self.laws.join(", "),
+            self.delta_bic
+        )
+    }
+
     /// The test in words.
     pub fn words(&self) -> String {
         let p: Vec<String> = self

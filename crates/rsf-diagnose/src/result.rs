@@ -300,12 +300,17 @@ pub enum Apart {
     /// The second, set aside only because its fit did not converge, scores better than the one
     /// chosen even at a point short of its optimum.
     Unconverged,
+    /// The second's law, reshaped (the form test, [`super::FormTest`]), explains the record
+    /// decisively better than the model chosen, by no more than the record's noise gives it: a
+    /// model without the cause chosen does as well as the model with it.
+    Form,
 }
 
 rsf_core::vocabulary!(Apart, "undecided reason", {
     Margin => "margin",
     Lead => "lead",
     Unconverged => "unconverged",
+    Form => "form",
 });
 
 /// How much slow drift a record's residuals carry (the noise model's power-law part).

@@ -394,18 +394,34 @@ pub fn diagnose(rec: &Record, segs: &[Segment], opts: &DiagnoseOptions) -> Resul
         }
         _ => None,
     };
-    let undecided: Vec<(Cause, f64)> =
-        close.or(unconverged).map_or(vec![], |(c1, c2)| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]);
-    let apart = match (&undecided[..], unconverged, lead) {
-        ([], _, _) => None,
-        (_, Some(_), _) => Some(Apart::Unconverged),
-        ([(_, da), (_, db)], None, Some(_)) if db - da >= super::UNDECIDED_DBIC => Some(Apart::Lead),
-        (_, None, _) => Some(Apart::Margin),
+    // else a rival whose law, reshaped, explains the record decisively better than the model
+    // chosen, by no more than the noise gives it (the form test found no misfit): a model
+    // without the cause chosen does as well as the model with it
+    let reshaped = match (chosen, close.or(unconverged), adequacy.form.as_ref()) {
+        (Some(c1), None, Some(f)) if secondary.is_none() && v.cause == c1.cause && f.rival_does_as_well() => {
+            candidates.iter().find(|c| c.cause == f.model).map(|c2| (c1, c2))
+        }
+        _ => None,
+    };
+    let undecided: Vec<(Cause, f64)> = close
+        .or(unconverged)
+        .or(reshaped)
+        .map_or(vec![], |(c1, c2)| vec![(c1.cause, c1.delta_bic), (c2.cause, c2.delta_bic)]);
+    let apart = match (&undecided[..], unconverged, reshaped, lead) {
+        ([], ..) => None,
+        (_, Some(_), _, _) => Some(Apart::Unconverged),
+        (_, None, Some(_), _) => Some(Apart::Form),
+        ([(_, da), (_, db)], None, None, Some(_)) if db - da >= super::UNDECIDED_DBIC => Some(Apart::Lead),
+        (_, None, None, _) => Some(Apart::Margin),
     };
     if let (&[(a, da), (b, db)], Some(apart)) = (&undecided[..], apart) {
         v.cause = Cause::Undecided;
         v.partial = Some(a);
         let why = match (apart, lead) {
+            (Apart::Form, _) => adequacy.form.as_ref().map_or_else(
+                || format!("{b}'s law, reshaped, explains the record as well as {a}'s model"),
+                |f| f.as_well_words(a, b),
+            ),
             (Apart::Unconverged, _) => format!(
                 "{b} scores better at a point short of its optimum (its fit did not converge; a fit of its model run \
                  longer, `rsf fit … --max-iter`, finds that optimum), and its optimum scores at least as well"

@@ -327,6 +327,30 @@ fn a_lead_the_noise_could_reverse_names_neither_cause() {
     assert!(d.reason.contains("chance spread"), "{}", d.reason);
 }
 
+/// Power-law aging, dθ/dt = 1 − Ω^1.5 (record 13 of the `--outside` study, seed 40; a law no
+/// library has), under 1/f noise 1.6× the white. A Kato–Tullis cut-off (ΔBIC −10,782) beat the
+/// Aging–Slip law (−10,581) by a lead the noise could not reverse, and every adequacy test
+/// passed: the cut-off was named. But the form test found the Aging–Slip law, read at a
+/// reshaped state θ_ref(θ/θ_ref)^p, decisively better than the cut-off's model (ΔBIC −168),
+/// by no more than its null replicates reach: a model without a cut-off explains the record as
+/// well as the model with it, so the record does not tell which it needs. The verdict names
+/// neither (`undecided`, `apart` = `form`).
+/// Fails on the main before: `cutoff_velocity`.
+#[test]
+fn a_rival_law_reshaped_that_does_as_well_names_neither_cause() {
+    let d = diagnosed_with_protocol("power_aging_reshaped_rival", 0.05558273592187484);
+    let form = d.adequacy.form.as_ref().expect("the form test ran");
+    assert!(!form.named && form.model == Cause::EvolutionLaw && !form.misfit, "{form:?}");
+    assert!(form.delta_bic < rsf_diagnose::DECISIVE && form.rival_does_as_well(), "{form:?}");
+    assert_eq!(d.cause, Cause::Undecided, "{}", d.reason);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Form), "{}", d.reason);
+    let pair: Vec<Cause> = d.undecided.iter().map(|u| u.0).collect();
+    assert_eq!(pair, [Cause::CutoffVelocity, Cause::EvolutionLaw], "{}", d.reason);
+    assert!(d.reason.contains("a model without cutoff_velocity does as well"), "{}", d.reason);
+    let json = serde_json::to_value(&d).unwrap();
+    assert_eq!(json["apart"], "form");
+}
+
 /// A direct effect that grows with the slip rate, ∂f/∂ln V = a + a₁ ln(V/V0) with a₁ = 1.99e-4
 /// (a spans ±15 % over the record's slip rates; record 7 of the `--outside` study's seed 39,
 /// steps of 1–3.5 decades, AR(1) and 1/f noise; a law no library has). No candidate on the

@@ -228,6 +228,21 @@ fn a_rival_that_did_not_converge_is_said_so() {
     assert!(!verdict.contains("within 10 of each other"), "{verdict}");
 }
 
+/// `undecided` because a rival's law, reshaped, explains the record as well as the cause chosen
+/// (power-law aging that a cut-off led, tests/data/outside/power_aging_reshaped_rival.csv): the
+/// verdict says which law, reshaped, does as well, and that the fit shown is the first one's.
+#[test]
+fn a_rival_law_reshaped_that_does_as_well_is_said_so() {
+    let d = diagnosed_record("outside/power_aging_reshaped_rival.csv", 0.05558273592187484);
+    assert_eq!(d.apart, Some(rsf_diagnose::Apart::Form), "{}", d.reason);
+    let html = diagnosis_html(&d, "undecided beside a rival law reshaped");
+    let verdict = verdict_text(&html);
+    for words in ["does not tell which of two extensions", "aging-slip", "reshaped state", "the first one's"] {
+        assert!(verdict.contains(words), "{words}: {verdict}");
+    }
+    assert!(!verdict.contains("within 10 of each other"), "{verdict}");
+}
+
 /// `unexplained` where no cause was chosen (a rate-dependent direct effect that no candidate
 /// mimics, tests/data/outside/rate_a_none_baseline.csv): the form test judged the baseline, and
 /// the report says so — the baseline, not a "model named", has the wrong direct effect.
