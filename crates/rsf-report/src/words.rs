@@ -394,7 +394,9 @@ pub fn verdict(d: &Diagnosis) -> String {
             ),
             (Some(Apart::Form), _) => match d.adequacy.form.as_ref() {
                 Some(f) => format!(
-                    "the first apart from the second by more than the margin of {}, but the second's law ({}) read                      at a reshaped state explains the record better than the first's model, by ΔBIC = {}, no more                      than the record's noise gives it: a model without the first does as well",
+                    "the first apart from the second by more than the margin of {}, but the second's law ({}) read \
+                     at a reshaped state explains the record better than the first's model, by ΔBIC = {}, no more \
+                     than the record's noise gives it: a model without the first does as well",
                     fmt_num(rsf_diagnose::UNDECIDED_DBIC, 2),
                     f.laws.join(", "),
                     fmt_num(f.delta_bic, 3)

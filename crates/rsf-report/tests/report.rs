@@ -237,7 +237,7 @@ fn a_rival_law_reshaped_that_does_as_well_is_said_so() {
     assert_eq!(d.apart, Some(rsf_diagnose::Apart::Form), "{}", d.reason);
     let html = diagnosis_html(&d, "undecided beside a rival law reshaped");
     let verdict = verdict_text(&html);
-    for words in ["does not tell which of two extensions", "aging-slip", "reshaped state", "the first one's"] {
+    for words in ["does not tell which of two extensions", "(aging-slip) read at a reshaped state", "the first one's"] {
         assert!(verdict.contains(words), "{words}: {verdict}");
     }
     assert!(!verdict.contains("within 10 of each other"), "{verdict}");
